@@ -1,0 +1,42 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// Integer voxel coordinates and their hash, shared by every sparse map of the suite (simulator
+// ground truth, observation map, local occupancy) so that they agree on cell boundaries.
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+
+namespace efs {
+
+struct VoxelKey {
+  int32_t x = 0, y = 0, z = 0;
+  bool operator==(const VoxelKey& o) const { return x == o.x && y == o.y && z == o.z; }
+  bool operator!=(const VoxelKey& o) const { return !(*this == o); }
+};
+
+struct VoxelKeyHash {
+  std::size_t operator()(const VoxelKey& k) const noexcept {
+    // Large odd primes decorrelate the axes (Teschner et al. 2003 spatial hashing).
+    return static_cast<std::size_t>(
+        (static_cast<uint64_t>(static_cast<uint32_t>(k.x)) * 73856093ULL) ^
+        (static_cast<uint64_t>(static_cast<uint32_t>(k.y)) * 19349663ULL) ^
+        (static_cast<uint64_t>(static_cast<uint32_t>(k.z)) * 83492791ULL));
+  }
+};
+
+/// Cell index of a point; cells are [i*res, (i+1)*res) along each axis.
+inline VoxelKey toVoxelKey(const Eigen::Vector3d& p_m, double resolution_m) {
+  return {static_cast<int32_t>(std::floor(p_m.x() / resolution_m)),
+          static_cast<int32_t>(std::floor(p_m.y() / resolution_m)),
+          static_cast<int32_t>(std::floor(p_m.z() / resolution_m))};
+}
+
+inline Eigen::Vector3d voxelCenter(const VoxelKey& k, double resolution_m) {
+  return {(k.x + 0.5) * resolution_m, (k.y + 0.5) * resolution_m, (k.z + 0.5) * resolution_m};
+}
+
+}  // namespace efs

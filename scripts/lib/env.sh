@@ -1,0 +1,26 @@
+# Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+# Shared environment of the scripts/ entry points. Sourced, not run.
+
+EFS_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+EFS_BUILD_DIR="${EFS_BUILD_DIR:-$EFS_ROOT/.build/ros}"
+EFS_SHARED_DATA_DIR="${EFS_SHARED_DATA_DIR:-$(cd "$EFS_ROOT/.." && pwd)/shared/data}"
+export EFS_ROOT EFS_BUILD_DIR EFS_SHARED_DATA_DIR
+
+# The python3 on PATH may be a pyenv interpreter without rospkg; ROS tools need Debian's.
+export PATH="/usr/bin:/bin:$PATH"
+export CCACHE_DIR="${CCACHE_DIR:-$HOME/.cache/ccache}"
+export CCACHE_MAXSIZE="${CCACHE_MAXSIZE:-5G}"
+export EFS_JOBS="${EFS_JOBS:-$(nproc)}"
+
+efs_log() { printf '[efs] %s\n' "$*" >&2; }
+
+# Sources the catkin devel space (its scripts reference unset variables, hence set +u).
+efs_source_devel() {
+  local had_u=0
+  [[ $- == *u* ]] && had_u=1
+  set +u
+  # shellcheck disable=SC1091
+  source "$EFS_BUILD_DIR/devel/setup.bash"
+  ((had_u)) && set -u
+  return 0
+}
