@@ -96,3 +96,10 @@ function(efs_module_targets module)
     efs_executable(${tool} SOURCES ${tool_source} DEPENDS efs_${module})
   endforeach()
 endfunction()
+
+# efs_expect_failure(NAME REGEX COMMAND ...)
+# A ctest test that a tool refuses bad input cleanly: non-zero exit, no crash, a short message on
+# stderr matching REGEX.
+function(efs_expect_failure name regex)
+  add_test(NAME ${name} COMMAND ${PROJECT_SOURCE_DIR}/scripts/lib/expect_failure "${regex}" ${ARGN})
+endfunction()

@@ -1,0 +1,46 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// Which part of the sketch the robot can be in (paper Sec. IV-A). For a line drawing this is the
+// building's interior: free paper enclosed by the outer walls, even where the outer wall is drawn
+// with gaps (doors to the outside, sloppy strokes). The outside of the building is never
+// traversable. For an occupancy grid it is the known-free space.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "prior_map_tools/sketch_loader.h"
+
+namespace efs::prior_map {
+
+struct TraversableConfig {
+  /// Clearance kept from a drawn wall [m, in the sketch's guessed scale]. Small on purpose: a
+  /// gap in a sketch means a passage, and the scale guess may be half the truth, which halves
+  /// every door; the planner checks real clearance against the LiDAR map.
+  double robot_radius_m = 0.15;
+  /// Largest gap in the outer wall that is still a wall (a door to the outside) [m]. The gap
+  /// closing radius is chosen automatically up to this bound, so a wrong scale guess (x2) is
+  /// tolerated.
+  double max_outer_gap_m = 4.0;
+  /// Components smaller than this are dropped (closets without doors, specks) [m^2].
+  double min_region_area_m2 = 2.0;
+
+  void validate() const;
+};
+
+struct TraversableRegion {
+  cv::Mat1b mask;        ///< 255 = traversable (after clearance), 0 = not
+  cv::Mat1b footprint;   ///< 255 = inside the building outline (drawings); = free for grids
+  cv::Mat1i components;  ///< component label per pixel, 0 = none, 1..n
+  std::vector<double> component_area_m2;  ///< index i holds label i + 1, largest first
+  int outer_gap_closing_px = 0;           ///< radius used to seal the outer wall (drawings)
+  double area_m2 = 0.0;
+
+  int numComponents() const { return static_cast<int>(component_area_m2.size()); }
+};
+
+/// Throws PriorMapError if nothing traversable remains (all black, all white, no interior, or a
+/// region too small for the robot), naming the sketch and the reason.
+TraversableRegion extractTraversable(const LoadedSketch& sketch, const TraversableConfig& config);
+
+}  // namespace efs::prior_map

@@ -1,0 +1,156 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "prior_map_tools/traversable_region.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "efs_common/config_check.h"
+#include "prior_map_tools/prior_map_error.h"
+
+namespace efs::prior_map {
+
+void TraversableConfig::validate() const {
+  requireInRange("robot_radius_m", robot_radius_m, 0.0, 10.0);
+  requireInRange("max_outer_gap_m", max_outer_gap_m, 0.0, 100.0);
+  requireInRange("min_region_area_m2", min_region_area_m2, 0.0, 1e6);
+}
+
+namespace {
+
+// Everything 4-connected to the image border through non-wall pixels. The image is padded by one
+// free pixel so the fill reaches around walls drawn on the border itself.
+cv::Mat1b exteriorOf(const cv::Mat1b& walls) {
+  cv::Mat1b padded;
+  cv::copyMakeBorder(walls, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  cv::Mat1b fill = padded.clone();
+  // floodFill marks reached pixels with 128 in a copy where walls are 255 and free is 0.
+  cv::floodFill(fill, cv::Point(0, 0), cv::Scalar(128), nullptr, cv::Scalar(0), cv::Scalar(0), 4);
+  cv::Mat1b exterior = (fill == 128);
+  return exterior(cv::Rect(1, 1, walls.cols, walls.rows)).clone();
+}
+
+// Morphological closing of the wall mask by a disc of `radius_px`, via distance transforms
+// (linear time whatever the radius, unlike a kernel of that size).
+cv::Mat1b closeWalls(const cv::Mat1b& walls, const cv::Mat1f& dist_to_wall, int radius_px) {
+  if (radius_px <= 0) return walls.clone();
+  cv::Mat1b dilated = dist_to_wall <= static_cast<float>(radius_px);
+  cv::Mat1b not_dilated = ~dilated;
+  if (cv::countNonZero(not_dilated) == 0) return dilated;
+  cv::Mat1f dist_to_outside;
+  cv::distanceTransform(dilated, dist_to_outside, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  // Eroding by one pixel less than the dilation keeps a sealed gap sealed: with discrete pixels
+  // an exact-radius erosion reopens a one-pixel channel through the middle of a gap.
+  cv::Mat1b closed = dist_to_outside > static_cast<float>(radius_px - 1);
+  return closed | walls;
+}
+
+}  // namespace
+
+TraversableRegion extractTraversable(const LoadedSketch& sketch, const TraversableConfig& config) {
+  config.validate();
+  const std::string& name = sketch.source_path;
+  const double m_per_px = sketch.frame.m_per_px;
+  const cv::Mat1b& walls = sketch.wall_mask;
+  if (walls.empty()) throw PriorMapError(name + ": empty sketch");
+  if (cv::countNonZero(walls) == static_cast<int>(walls.total())) {
+    throw PriorMapError(name + ": no traversable region: the image is entirely wall (all black)");
+  }
+
+  TraversableRegion out;
+  cv::Mat1b interior_free;
+  if (sketch.kind == SketchKind::kOccupancyGrid) {
+    interior_free = ~(walls | sketch.unknown_mask);
+    out.footprint = interior_free.clone();
+  } else {
+    if (cv::countNonZero(walls) == 0) {
+      throw PriorMapError(name +
+                          ": no traversable region: the drawing has no walls (all white), so "
+                          "there is no inside to explore");
+    }
+    // Seal gaps in the outer wall by a morphological closing of the walls. Sealing the last gap
+    // makes the enclosed area jump (before, the outside floods the building through the gap);
+    // larger radii only fill notches of the outside. So take the smallest radius whose enclosed
+    // area is at least half the largest, and go on only while the area still jumps (a second
+    // part of the building with its own gap).
+    // The page is padded so that closing never seals against the image border.
+    const int max_radius = std::max(0, static_cast<int>(std::ceil(0.5 * config.max_outer_gap_m / m_per_px)));
+    const int pad = max_radius + 2;
+    cv::Mat1b padded_walls;
+    cv::copyMakeBorder(walls, padded_walls, pad, pad, pad, pad, cv::BORDER_CONSTANT, cv::Scalar(0));
+    const cv::Rect page(pad, pad, walls.cols, walls.rows);
+    cv::Mat1f dist_to_wall;
+    cv::distanceTransform(~padded_walls, dist_to_wall, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    std::vector<int> radii{0};
+    for (double r = 1.0; r < max_radius; r = std::max(r + 1.0, r * 1.35)) radii.push_back(static_cast<int>(r));
+    if (max_radius > 0) radii.push_back(max_radius);
+    std::vector<double> area(radii.size());
+    std::vector<cv::Mat1b> footprints(radii.size());
+    for (size_t i = 0; i < radii.size(); ++i) {
+      footprints[i] = ~exteriorOf(closeWalls(padded_walls, dist_to_wall, radii[i]))(page);
+      area[i] = cv::countNonZero(footprints[i] & ~walls);
+    }
+    const double best = *std::max_element(area.begin(), area.end());
+    if (best <= 0.0) {
+      throw PriorMapError(name +
+                          ": no traversable region: no area enclosed by walls (outer wall gaps "
+                          "wider than max_outer_gap_m = " +
+                          std::to_string(config.max_outer_gap_m) + " m at the scale guess?)");
+    }
+    size_t chosen = 0;
+    while (area[chosen] < 0.5 * best) ++chosen;
+    while (chosen + 1 < radii.size() && area[chosen + 1] > 1.25 * area[chosen]) ++chosen;
+    out.outer_gap_closing_px = radii[chosen];
+    out.footprint = footprints[chosen];
+    interior_free = out.footprint & ~walls;
+  }
+  if (cv::countNonZero(interior_free) == 0) {
+    throw PriorMapError(name + ": no traversable region: the map has no free cells");
+  }
+
+  // Clearance: a pixel is traversable if the robot's disc around it touches no wall or outside.
+  cv::Mat1f clearance_px;
+  cv::distanceTransform(interior_free, clearance_px, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  const float radius_px = static_cast<float>(config.robot_radius_m / m_per_px);
+  cv::Mat1b traversable = clearance_px > radius_px;
+
+  cv::Mat1i labels;
+  cv::Mat stats, centroids;
+  const int n = cv::connectedComponentsWithStats(traversable, labels, stats, centroids, 8, CV_32S);
+  const double px_area = m_per_px * m_per_px;
+  std::vector<std::pair<double, int>> kept;  // (area, old label)
+  for (int l = 1; l < n; ++l) {
+    const double a = stats.at<int>(l, cv::CC_STAT_AREA) * px_area;
+    if (a >= config.min_region_area_m2) kept.emplace_back(a, l);
+  }
+  if (kept.empty()) {
+    std::ostringstream os;
+    os << name << ": no traversable region large enough for the robot: "
+       << "robot_radius_m = " << config.robot_radius_m << " at " << m_per_px
+       << " m/px leaves no free component of at least " << config.min_region_area_m2 << " m^2";
+    throw PriorMapError(os.str());
+  }
+  std::sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<int> relabel(n, 0);
+  for (size_t i = 0; i < kept.size(); ++i) {
+    relabel[kept[i].second] = static_cast<int>(i) + 1;
+    out.component_area_m2.push_back(kept[i].first);
+  }
+  out.components = cv::Mat1i::zeros(labels.size());
+  out.mask = cv::Mat1b::zeros(labels.size());
+  for (int r = 0; r < labels.rows; ++r) {
+    const int* src = labels.ptr<int>(r);
+    int* dst = out.components.ptr<int>(r);
+    uint8_t* m = out.mask.ptr<uint8_t>(r);
+    for (int c = 0; c < labels.cols; ++c) {
+      const int l = relabel[src[c]];
+      dst[c] = l;
+      m[c] = l > 0 ? 255 : 0;
+    }
+  }
+  for (double a : out.component_area_m2) out.area_m2 += a;
+  return out;
+}
+
+}  // namespace efs::prior_map

@@ -1,0 +1,109 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "prior_map_tools/traversable_region.h"
+
+#include <gtest/gtest.h>
+
+#include "efs_common/testing/paths.h"
+#include "prior_map_tools/prior_map_error.h"
+#include "test_sketches.h"
+
+namespace efs::prior_map {
+namespace {
+
+LoadedSketch building(double m_per_px) {
+  SketchLoadConfig config;
+  config.scale_guess_m_per_px = m_per_px;
+  return sketchFromImage(test::drawBuilding(), config, "building");
+}
+
+void expectThrowsWith(const LoadedSketch& s, const TraversableConfig& c, const std::string& needle) {
+  try {
+    extractTraversable(s, c);
+    FAIL() << "expected PriorMapError with '" << needle << "'";
+  } catch (const PriorMapError& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(s.source_path), std::string::npos) << e.what();
+  }
+}
+
+TEST(TraversableRegion, InteriorIsOneRegionAndOutsideIsExcludedDespiteOuterDoor) {
+  // The scale guess may be wrong by a factor of two either way.
+  for (double m_per_px : {0.05, 0.1, 0.2}) {
+    const TraversableRegion r = extractTraversable(building(m_per_px), {});
+    SCOPED_TRACE(m_per_px);
+    EXPECT_EQ(r.numComponents(), 1);
+    const cv::Point c = test::corridorPixel(), n = test::northRoomPixel(),
+                    s = test::southRoomPixel(), o = test::outsidePixel();
+    EXPECT_EQ(r.mask(c.y, c.x), 255);
+    EXPECT_EQ(r.mask(n.y, n.x), 255);
+    EXPECT_EQ(r.mask(s.y, s.x), 255);
+    EXPECT_EQ(r.mask(o.y, o.x), 0);
+    EXPECT_EQ(r.components(c.y, c.x), r.components(n.y, n.x));
+    EXPECT_EQ(r.components(c.y, c.x), r.components(s.y, s.x));
+    // Nothing outside the outer wall's rectangle is traversable.
+    EXPECT_EQ(cv::countNonZero(r.mask(cv::Rect(0, 0, 48, 300))), 0);
+    EXPECT_EQ(cv::countNonZero(r.mask(cv::Rect(0, 0, 400, 48))), 0);
+    EXPECT_GT(r.outer_gap_closing_px, 0);
+  }
+}
+
+TEST(TraversableRegion, RobotClearanceKeepsAwayFromWalls) {
+  TraversableConfig c;
+  c.robot_radius_m = 0.5;
+  const TraversableRegion r = extractTraversable(building(0.1), c);
+  // Row 50 is the north wall: rows within 5 px of it are not traversable.
+  EXPECT_EQ(cv::countNonZero(r.mask(cv::Rect(60, 51, 200, 4))), 0);
+  EXPECT_GT(cv::countNonZero(r.mask(cv::Rect(60, 60, 200, 4))), 0);
+}
+
+TEST(TraversableRegion, AllBlackAllWhiteAndTooNarrowAreClearErrors) {
+  SketchLoadConfig lc;
+  expectThrowsWith(sketchFromImage(cv::Mat1b(50, 50, uint8_t(0)), lc, "black.png"), {}, "all black");
+  expectThrowsWith(sketchFromImage(cv::Mat1b(50, 50, uint8_t(255)), lc, "white.png"), {}, "all white");
+  // A closed 4-px-wide corridor: free inside, but too narrow for a 0.5 m robot at 0.1 m/px.
+  cv::Mat1b narrow(60, 200, uint8_t(255));
+  cv::rectangle(narrow, cv::Rect(10, 20, 180, 6), cv::Scalar(0), 1);
+  expectThrowsWith(sketchFromImage(narrow, lc, "narrow.png"), {0.5, 4.0, 0.1}, "large enough for the robot");
+  // Open lines with nothing enclosed.
+  cv::Mat1b lines(100, 100, uint8_t(255));
+  cv::line(lines, {10, 10}, {90, 10}, cv::Scalar(0), 1);
+  expectThrowsWith(sketchFromImage(lines, lc, "lines.png"), {}, "no traversable region");
+}
+
+TEST(TraversableRegion, OccupancyGridUnknownIsNotTraversable) {
+  cv::Mat1b grid(40, 60, uint8_t(205));
+  grid(cv::Rect(10, 10, 40, 20)).setTo(254);
+  SketchLoadConfig lc;
+  lc.scale_guess_m_per_px = 0.1;
+  const TraversableRegion r = extractTraversable(sketchFromImage(grid, lc, "grid"), {0.1, 4.0, 0.5});
+  EXPECT_EQ(r.mask(5, 5), 0);
+  EXPECT_EQ(r.mask(20, 30), 255);
+  EXPECT_EQ(cv::countNonZero(r.mask & (grid == 205)), 0);
+}
+
+TEST(TraversableRegion, Ed21SketchesGiveTheBuildingInteriorOnly) {
+  for (const char* name : {"sketch_ed21.png", "sketch_ed21_1.png", "sketch_ed21_2.png", "sketch_ed21_3.png"}) {
+    SCOPED_TRACE(name);
+    SketchLoadConfig lc;
+    lc.scale_guess_m_per_px = 0.12;
+    const LoadedSketch s = loadSketch(efs::testing::sharedDataPath(std::string("ed21/") + name), lc);
+    const TraversableRegion r = extractTraversable(s, {});
+    ASSERT_GE(r.numComponents(), 1);
+    // The building's rooms and corridors form one connected region: closets drawn without a door
+    // are the only other components, and together they are small.
+    EXPECT_GT(r.component_area_m2[0], 0.8 * r.area_m2);
+    // The page outside the building is excluded: the image corners, and everything outside the
+    // bounding box of the drawn walls.
+    EXPECT_EQ(r.mask(0, 0), 0);
+    EXPECT_EQ(r.mask(r.mask.rows - 1, r.mask.cols - 1), 0);
+    const cv::Rect walls = cv::boundingRect(s.wall_mask);
+    EXPECT_EQ(cv::countNonZero(r.mask) - cv::countNonZero(r.mask(walls)), 0);
+    // The exterior (page area around the building outline) holds no traversable pixel.
+    cv::Mat1b outside = ~r.footprint;
+    EXPECT_EQ(cv::countNonZero(outside & r.mask), 0);
+    EXPECT_GT(cv::countNonZero(outside), 0.1 * outside.total());
+  }
+}
+
+}  // namespace
+}  // namespace efs::prior_map
