@@ -1,0 +1,66 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// Front end: A* on the local grid's inflated occupancy, 26-connected, step costs 1, sqrt2, sqrt3
+// cells, with the 3D octile distance as heuristic (admissible and consistent for this
+// neighbourhood, so the path is optimal on the grid). Bad requests get defined behaviour:
+//   * goal outside the window -> clamped into it (if clamp_goal_to_window) then as below;
+//   * goal blocked -> nearest traversable cell within goal_search_radius_m, else kGoalBlocked;
+//   * start blocked (the robot is within its radius of an obstacle) -> the path first escapes to
+//     the nearest traversable cell within start_escape_radius_m, else kStartInCollision.
+// The grid path is then shortened by line-of-sight shortcuts on the same blocked test.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "minco_traj/local_grid.h"
+
+namespace efs::traj {
+
+struct AStarConfig {
+  bool unknown_is_free = true;  ///< exploration plans optimistically through unknown space
+  bool clamp_goal_to_window = true;
+  double goal_search_radius_m = 1.0;
+  double start_escape_radius_m = 0.6;
+  int max_expansions = 400000;
+  bool shortcut = true;
+  void validate() const;
+};
+
+enum class AStarStatus {
+  kSuccess,
+  kStartOutside,      ///< start not in the grid window
+  kStartInCollision,  ///< start blocked and no free cell within start_escape_radius_m
+  kGoalOutside,       ///< goal outside the window and clamping disabled
+  kGoalBlocked,       ///< goal blocked and no free cell within goal_search_radius_m
+  kNoPath,            ///< open set exhausted
+  kExpansionLimit
+};
+const char* toString(AStarStatus s);
+
+struct AStarResult {
+  AStarStatus status = AStarStatus::kNoPath;
+  bool goal_adjusted = false;  ///< the path ends at a substitute for the requested goal
+  bool start_escaped = false;  ///< the path starts with an escape out of the inflated zone
+  std::vector<Eigen::Vector3d> grid_path_world_m;  ///< cell centres (plus exact start/goal)
+  std::vector<Eigen::Vector3d> path_world_m;       ///< shortened path
+  double grid_path_length_m = 0.0;
+  int expansions = 0;
+  bool ok() const { return status == AStarStatus::kSuccess; }
+};
+
+class AStarPlanner {
+ public:
+  explicit AStarPlanner(const AStarConfig& cfg = {});
+  AStarResult plan(const LocalGrid& grid, const Eigen::Vector3d& start_world_m,
+                   const Eigen::Vector3d& goal_world_m) const;
+  /// True if no cell on the segment is blocked.
+  bool lineOfSight(const LocalGrid& grid, const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
+  /// Nearest traversable cell within radius_m (by centre distance), false if none.
+  bool nearestFree(const LocalGrid& grid, const VoxelKey& k, double radius_m, VoxelKey* out) const;
+
+ private:
+  AStarConfig cfg_;
+};
+
+}  // namespace efs::traj

@@ -1,0 +1,96 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// Safe flight corridor: one convex polytope (H-representation A x <= b, unit-norm rows) per seed
+// segment of the front-end path, grown by alternating half-space and ellipsoid steps in the
+// manner of IRIS / FIRI (Deits & Tedrake 2015; Wang et al., "Fast Iterative Region Inflation",
+// 2025). Our variant, chosen for soundness with a simple implementation:
+//   1. Half-space step. Obstacle points (occupied cell centres) are visited in order of their
+//      distance to the current ellipsoid E = {C u + d : |u| <= 1} in E's own metric. The nearest
+//      unhandled point o gets the plane tangent to the scaled ellipsoid through o (IRIS). If that
+//      plane would cut the seed segment, the plane through o perpendicular to the segment-to-o
+//      direction is used instead (FIRI's requirement that the seed stays inside). All points on or
+//      beyond the plane are handled. Each plane is then moved inward by clearance_m, but never past
+//      the seed (the polytope is flagged clearance_reduced when that limit binds).
+//   2. Ellipsoid step. The maximum-volume ellipsoid inscribed in the polytope, by a log-barrier
+//      Newton method on (L lower triangular, d): maximise log det L s.t. |L^T a_i| + a_i.d <= b_i.
+// Guarantees by construction: the seed segment lies in its polytope, every obstacle point is at
+// least clearance_m (or the reduced clearance) outside it, and consecutive polytopes share the
+// path vertex between their seeds, so they overlap.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "minco_traj/local_grid.h"
+
+namespace efs::traj {
+
+struct Polytope {
+  Eigen::Matrix<double, Eigen::Dynamic, 3> A;  ///< unit outward normals, one per row
+  Eigen::VectorXd b;
+  Eigen::Vector3d seed_start_m = Eigen::Vector3d::Zero(), seed_end_m = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d ellipsoid_C = Eigen::Matrix3d::Identity();  ///< E = {C u + d, |u| <= 1}
+  Eigen::Vector3d ellipsoid_d = Eigen::Vector3d::Zero();
+  bool clearance_reduced = false;
+
+  /// max_i (a_i . p - b_i): <= 0 inside.
+  double violation(const Eigen::Vector3d& p) const;
+  bool contains(const Eigen::Vector3d& p, double tol_m = 1e-9) const {
+    return violation(p) <= tol_m;
+  }
+  int planeCount() const { return static_cast<int>(b.size()); }
+};
+
+struct CorridorConfig {
+  double clearance_m = 0.3;        ///< obstacles stay this far outside (the vehicle radius)
+  double box_margin_m = 2.0;       ///< each polytope lies in the seed's bounding box + margin
+  double max_seed_length_m = 4.0;  ///< longer path segments are split into several seeds
+  int iterations = 2;              ///< half-space / ellipsoid alternations
+  double initial_radius_m = 0.3;   ///< cross radius of the first ellipsoid around the seed
+  int mvie_newton_steps = 25;
+  void validate() const;
+};
+
+enum class CorridorStatus { kOk, kEmptyPath, kSeedInCollision };
+const char* toString(CorridorStatus s);
+
+struct CorridorResult {
+  CorridorStatus status = CorridorStatus::kEmptyPath;
+  std::vector<Polytope> polytopes;
+  bool ok() const { return status == CorridorStatus::kOk; }
+};
+
+class CorridorBuilder {
+ public:
+  explicit CorridorBuilder(const CorridorConfig& cfg = {});
+
+  /// Corridor along a front-end path, obstacles from the grid's occupied cells; polytopes are
+  /// also bounded by the grid window.
+  CorridorResult build(const std::vector<Eigen::Vector3d>& path_world_m,
+                       const LocalGrid& grid) const;
+  /// Same with explicit obstacle points and bounds (the polytopes stay inside [lo, hi]).
+  CorridorResult build(const std::vector<Eigen::Vector3d>& path_world_m,
+                       const std::vector<Eigen::Vector3d>& obstacles_world_m,
+                       const Eigen::Vector3d& bound_lo, const Eigen::Vector3d& bound_hi) const;
+
+  /// One polytope around the segment [a, b]; `in_collision` is set if an obstacle lies on it.
+  Polytope inflateSegment(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                          const std::vector<Eigen::Vector3d>& obstacles,
+                          const Eigen::Vector3d& bound_lo, const Eigen::Vector3d& bound_hi,
+                          bool* in_collision) const;
+
+  /// Splits a path into seed segments (dropping repeated points, splitting long segments).
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> seeds(
+      const std::vector<Eigen::Vector3d>& path) const;
+
+ private:
+  CorridorConfig cfg_;
+};
+
+/// Maximum-volume inscribed ellipsoid of {x : A x <= b} from a strictly interior point x0.
+/// Returns false if x0 is not strictly inside. Exposed for tests.
+bool maxVolumeInscribedEllipsoid(const Eigen::Matrix<double, Eigen::Dynamic, 3>& A,
+                                 const Eigen::VectorXd& b, const Eigen::Vector3d& x0,
+                                 int newton_steps, Eigen::Matrix3d* C, Eigen::Vector3d* d);
+
+}  // namespace efs::traj

@@ -1,0 +1,104 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// Local occupancy around the robot from registered scans (points already in the world frame).
+// A dense ring buffer of `size_*_m` around a movable centre: cells keep their log-odds while the
+// window slides, cells that leave it are forgotten. Free space is cleared by ray casting from the
+// sensor origin (Amanatides-Woo traversal), so unknown and free stay distinct. An inflation count
+// per cell (how many occupied cells lie within `inflation_radius_m` of its centre) is maintained
+// incrementally, so "blocked for a robot of this radius" is one lookup. Cell boundaries follow
+// efs::toVoxelKey, shared with the rest of the suite.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "efs_common/voxel_key.h"
+
+namespace efs::traj {
+
+struct LocalGridConfig {
+  double resolution_m = 0.1;
+  double size_x_m = 24.0;  ///< window extent, centred on the robot
+  double size_y_m = 24.0;
+  double size_z_m = 6.0;
+  double inflation_radius_m = 0.3;  ///< vehicle radius plus margin
+  double max_ray_length_m = 30.0;   ///< longer rays clear free space up to this range only
+  double logodds_hit = 0.85;
+  double logodds_miss = -0.4;
+  double logodds_min = -2.0;
+  double logodds_max = 3.5;
+  double logodds_occupied = 0.7;  ///< above this an observed cell is occupied
+  void validate() const;
+};
+
+enum class CellState : uint8_t { kUnknown, kFree, kOccupied, kOutside };
+const char* toString(CellState s);
+
+class LocalGrid {
+ public:
+  LocalGrid(const LocalGridConfig& cfg, const Eigen::Vector3d& center_world_m);
+
+  const LocalGridConfig& config() const { return cfg_; }
+  double resolution() const { return cfg_.resolution_m; }
+  VoxelKey key(const Eigen::Vector3d& p_world_m) const {
+    return toVoxelKey(p_world_m, cfg_.resolution_m);
+  }
+  Eigen::Vector3d center(const VoxelKey& k) const { return voxelCenter(k, cfg_.resolution_m); }
+  /// Inclusive key range of the window.
+  VoxelKey minKey() const { return min_key_; }
+  VoxelKey maxKey() const { return {min_key_.x + nx_ - 1, min_key_.y + ny_ - 1, min_key_.z + nz_ - 1}; }
+  Eigen::Vector3d windowMin() const;  ///< lower corner of the window [m]
+  Eigen::Vector3d windowMax() const;  ///< upper corner of the window [m]
+  bool inWindow(const VoxelKey& k) const;
+  bool inWindow(const Eigen::Vector3d& p) const { return inWindow(key(p)); }
+
+  /// Moves the window so that it is centred on `center_world_m`; forgotten cells become unknown.
+  void recenter(const Eigen::Vector3d& center_world_m);
+  /// Integrates one registered scan: misses along each ray, hits at the end points.
+  void insertScan(const Eigen::Vector3d& sensor_origin_world_m,
+                  const std::vector<Eigen::Vector3d>& points_world_m);
+  /// Marks cells directly (tests, prior knowledge): occupied at maximum log-odds or free.
+  void setOccupied(const Eigen::Vector3d& p_world_m);
+  void setFree(const Eigen::Vector3d& p_world_m);
+  /// Marks every cell of the window free (an empty, fully observed map).
+  void setAllFree();
+
+  CellState state(const VoxelKey& k) const;
+  CellState state(const Eigen::Vector3d& p) const { return state(key(p)); }
+  /// Within inflation_radius_m of an occupied cell (or occupied itself).
+  bool isInflated(const VoxelKey& k) const;
+  /// Not traversable: outside, inflated, or unknown when !unknown_is_free.
+  bool isBlocked(const VoxelKey& k, bool unknown_is_free) const;
+
+  /// Centres of occupied cells whose centres lie in [lo, hi].
+  void occupiedCentersInBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                            std::vector<Eigen::Vector3d>& out) const;
+  size_t occupiedCount() const;
+
+ private:
+  size_t index(const VoxelKey& k) const;
+  void updateCell(size_t idx, const VoxelKey& k, float delta);
+  void stampInflation(const VoxelKey& k, int sign);
+  void recomputeInflation();
+
+  LocalGridConfig cfg_;
+  int nx_ = 0, ny_ = 0, nz_ = 0;
+  VoxelKey min_key_;
+  std::vector<float> logodds_;
+  std::vector<uint8_t> observed_;
+  std::vector<uint16_t> inflation_;
+  std::vector<uint32_t> scan_stamp_;
+  uint32_t scan_id_ = 0;
+  std::vector<VoxelKey> kernel_;
+};
+
+/// Visits the cells a segment passes through (Amanatides-Woo), from the start cell to the end
+/// cell inclusive; `visit(key)` returns false to stop early. Returns false if stopped.
+template <typename Visit>
+bool traverseCells(const Eigen::Vector3d& from, const Eigen::Vector3d& to, double res,
+                   Visit&& visit);
+
+}  // namespace efs::traj
+
+#include "minco_traj/impl/traverse_cells.h"

@@ -1,0 +1,214 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "minco_traj/astar.h"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <unordered_map>
+
+#include "efs_common/config_check.h"
+
+namespace efs::traj {
+
+void AStarConfig::validate() const {
+  requireInRange("astar.goal_search_radius_m", goal_search_radius_m, 0.0, 10.0);
+  requireInRange("astar.start_escape_radius_m", start_escape_radius_m, 0.0, 10.0);
+  requireInRange("astar.max_expansions", max_expansions, 1, 100000000);
+}
+
+const char* toString(AStarStatus s) {
+  switch (s) {
+    case AStarStatus::kSuccess: return "success";
+    case AStarStatus::kStartOutside: return "start_outside_window";
+    case AStarStatus::kStartInCollision: return "start_in_collision";
+    case AStarStatus::kGoalOutside: return "goal_outside_window";
+    case AStarStatus::kGoalBlocked: return "goal_blocked";
+    case AStarStatus::kNoPath: return "no_path";
+    case AStarStatus::kExpansionLimit: return "expansion_limit";
+  }
+  return "?";
+}
+
+AStarPlanner::AStarPlanner(const AStarConfig& cfg) : cfg_(cfg) { cfg_.validate(); }
+
+namespace {
+// Octile distance in 3D, in cells: sorted |d| = (a >= b >= c).
+inline double octile(const VoxelKey& a, const VoxelKey& b) {
+  double d[3] = {std::abs(static_cast<double>(a.x - b.x)), std::abs(static_cast<double>(a.y - b.y)),
+                 std::abs(static_cast<double>(a.z - b.z))};
+  std::sort(d, d + 3);  // d[0] <= d[1] <= d[2]
+  static const double s2 = std::sqrt(2.0), s3 = std::sqrt(3.0);
+  return (s3 - s2) * d[0] + (s2 - 1.0) * d[1] + d[2];
+}
+
+struct Node {
+  VoxelKey key;
+  double g;
+  int parent;
+  bool closed;
+};
+}  // namespace
+
+bool AStarPlanner::lineOfSight(const LocalGrid& grid, const Eigen::Vector3d& a,
+                               const Eigen::Vector3d& b) const {
+  return traverseCells(a, b, grid.resolution(),
+                       [&](const VoxelKey& k) { return !grid.isBlocked(k, cfg_.unknown_is_free); });
+}
+
+bool AStarPlanner::nearestFree(const LocalGrid& grid, const VoxelKey& k, double radius_m,
+                               VoxelKey* out) const {
+  const int r = static_cast<int>(std::ceil(radius_m / grid.resolution()));
+  const double r2 = std::pow(radius_m / grid.resolution(), 2) + 1e-9;
+  double best = 1e300;
+  for (int dx = -r; dx <= r; ++dx)
+    for (int dy = -r; dy <= r; ++dy)
+      for (int dz = -r; dz <= r; ++dz) {
+        const double d2 = dx * dx + dy * dy + dz * dz;
+        if (d2 > r2 || d2 >= best) continue;
+        const VoxelKey n{k.x + dx, k.y + dy, k.z + dz};
+        if (grid.isBlocked(n, cfg_.unknown_is_free)) continue;
+        best = d2;
+        *out = n;
+      }
+  return best < 1e300;
+}
+
+AStarResult AStarPlanner::plan(const LocalGrid& grid, const Eigen::Vector3d& start,
+                               const Eigen::Vector3d& goal_in) const {
+  AStarResult res;
+  const double res_m = grid.resolution();
+  if (!start.allFinite() || !grid.inWindow(start)) {
+    res.status = AStarStatus::kStartOutside;
+    return res;
+  }
+  Eigen::Vector3d goal = goal_in;
+  if (!goal.allFinite()) {
+    res.status = AStarStatus::kGoalOutside;
+    return res;
+  }
+  if (!grid.inWindow(goal)) {
+    if (!cfg_.clamp_goal_to_window) {
+      res.status = AStarStatus::kGoalOutside;
+      return res;
+    }
+    // Pull the goal along the start->goal line to just inside the window.
+    const Eigen::Vector3d lo = grid.windowMin().array() + 0.5 * res_m;
+    const Eigen::Vector3d hi = grid.windowMax().array() - 0.5 * res_m;
+    double s = 1.0;
+    for (int a = 0; a < 3; ++a) {
+      const double d = goal[a] - start[a];
+      if (goal[a] > hi[a]) s = std::min(s, (hi[a] - start[a]) / d);
+      if (goal[a] < lo[a]) s = std::min(s, (lo[a] - start[a]) / d);
+    }
+    goal = start + std::max(0.0, s) * (goal - start);
+    res.goal_adjusted = true;
+  }
+  VoxelKey sk = grid.key(start), gk = grid.key(goal);
+  Eigen::Vector3d escape_point = start;
+  if (grid.isBlocked(sk, cfg_.unknown_is_free)) {
+    VoxelKey free_k;
+    if (!nearestFree(grid, sk, cfg_.start_escape_radius_m, &free_k)) {
+      res.status = AStarStatus::kStartInCollision;
+      return res;
+    }
+    sk = free_k;
+    escape_point = grid.center(free_k);
+    res.start_escaped = true;
+  }
+  if (grid.isBlocked(gk, cfg_.unknown_is_free)) {
+    VoxelKey free_k;
+    if (!nearestFree(grid, gk, cfg_.goal_search_radius_m, &free_k)) {
+      res.status = AStarStatus::kGoalBlocked;
+      return res;
+    }
+    gk = free_k;
+    goal = grid.center(free_k);
+    res.goal_adjusted = true;
+  }
+
+  std::vector<Node> nodes;
+  nodes.reserve(4096);
+  std::unordered_map<VoxelKey, int, VoxelKeyHash> index;
+  index.reserve(8192);
+  using QE = std::pair<double, int>;  // (f, node)
+  std::priority_queue<QE, std::vector<QE>, std::greater<QE>> open;
+  nodes.push_back({sk, 0.0, -1, false});
+  index[sk] = 0;
+  open.push({octile(sk, gk), 0});
+  static const double kStep[4] = {0.0, 1.0, std::sqrt(2.0), std::sqrt(3.0)};
+  int found = -1;
+  while (!open.empty()) {
+    const auto [f, ni] = open.top();
+    open.pop();
+    if (nodes[ni].closed) continue;
+    nodes[ni].closed = true;
+    if (nodes[ni].key == gk) {
+      found = ni;
+      break;
+    }
+    if (++res.expansions > cfg_.max_expansions) {
+      res.status = AStarStatus::kExpansionLimit;
+      return res;
+    }
+    const VoxelKey k = nodes[ni].key;
+    const double g = nodes[ni].g;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const int m = std::abs(dx) + std::abs(dy) + std::abs(dz);
+          if (m == 0) continue;
+          const VoxelKey nk{k.x + dx, k.y + dy, k.z + dz};
+          if (grid.isBlocked(nk, cfg_.unknown_is_free)) continue;
+          const double ng = g + kStep[m];
+          auto it = index.find(nk);
+          int idx;
+          if (it == index.end()) {
+            idx = static_cast<int>(nodes.size());
+            nodes.push_back({nk, ng, ni, false});
+            index.emplace(nk, idx);
+          } else {
+            idx = it->second;
+            if (nodes[idx].closed || ng >= nodes[idx].g - 1e-12) continue;
+            nodes[idx].g = ng;
+            nodes[idx].parent = ni;
+          }
+          open.push({ng + octile(nk, gk), idx});
+        }
+  }
+  if (found < 0) {
+    res.status = AStarStatus::kNoPath;
+    return res;
+  }
+  std::vector<Eigen::Vector3d> cells;
+  for (int i = found; i >= 0; i = nodes[i].parent) cells.push_back(grid.center(nodes[i].key));
+  std::reverse(cells.begin(), cells.end());
+  // Exact endpoints replace the centres of their cells (they lie in those cells).
+  cells.front() = escape_point;
+  cells.back() = goal;
+  if (res.start_escaped) cells.insert(cells.begin(), start);
+  res.grid_path_world_m = cells;
+  res.grid_path_length_m = nodes[found].g * res_m;
+
+  if (!cfg_.shortcut || cells.size() <= 2) {
+    res.path_world_m = cells;
+  } else {
+    // Greedy forward shortcuts; the escape segment (through blocked cells) is kept as it is.
+    auto& out = res.path_world_m;
+    size_t anchor = 0;
+    out.push_back(cells[0]);
+    if (res.start_escaped) {
+      out.push_back(cells[1]);
+      anchor = 1;
+    }
+    while (anchor + 1 < cells.size()) {
+      size_t j = anchor + 1;
+      while (j + 1 < cells.size() && lineOfSight(grid, cells[anchor], cells[j + 1])) ++j;
+      out.push_back(cells[j]);
+      anchor = j;
+    }
+  }
+  res.status = AStarStatus::kSuccess;
+  return res;
+}
+
+}  // namespace efs::traj

@@ -1,0 +1,238 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "minco_traj/local_grid.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "efs_common/config_check.h"
+
+namespace efs::traj {
+
+void LocalGridConfig::validate() const {
+  requireInRange("local_grid.resolution_m", resolution_m, 0.02, 2.0);
+  requireInRange("local_grid.size_x_m", size_x_m, 4 * resolution_m, 200.0);
+  requireInRange("local_grid.size_y_m", size_y_m, 4 * resolution_m, 200.0);
+  requireInRange("local_grid.size_z_m", size_z_m, 4 * resolution_m, 100.0);
+  const double cells = (size_x_m / resolution_m) * (size_y_m / resolution_m) *
+                       (size_z_m / resolution_m);
+  requireThat(cells <= 64e6, "local_grid.size_x_m",
+              "window has more than 64 million cells; enlarge resolution_m or shrink the window");
+  requireInRange("local_grid.inflation_radius_m", inflation_radius_m, 0.0, 3.0);
+  requirePositive("local_grid.max_ray_length_m", max_ray_length_m);
+  requireInRange("local_grid.logodds_hit", logodds_hit, 1e-3, 10.0);
+  requireInRange("local_grid.logodds_miss", logodds_miss, -10.0, -1e-3);
+  requireInRange("local_grid.logodds_min", logodds_min, -20.0, logodds_miss);
+  requireInRange("local_grid.logodds_max", logodds_max, logodds_hit, 20.0);
+  requireInRange("local_grid.logodds_occupied", logodds_occupied, logodds_min, logodds_max);
+}
+
+const char* toString(CellState s) {
+  switch (s) {
+    case CellState::kUnknown: return "unknown";
+    case CellState::kFree: return "free";
+    case CellState::kOccupied: return "occupied";
+    case CellState::kOutside: return "outside";
+  }
+  return "?";
+}
+
+namespace {
+inline int posMod(int a, int n) {
+  const int r = a % n;
+  return r < 0 ? r + n : r;
+}
+}  // namespace
+
+LocalGrid::LocalGrid(const LocalGridConfig& cfg, const Eigen::Vector3d& c) : cfg_(cfg) {
+  cfg_.validate();
+  nx_ = static_cast<int>(std::ceil(cfg_.size_x_m / cfg_.resolution_m));
+  ny_ = static_cast<int>(std::ceil(cfg_.size_y_m / cfg_.resolution_m));
+  nz_ = static_cast<int>(std::ceil(cfg_.size_z_m / cfg_.resolution_m));
+  const size_t n = static_cast<size_t>(nx_) * ny_ * nz_;
+  logodds_.assign(n, 0.f);
+  observed_.assign(n, 0);
+  inflation_.assign(n, 0);
+  scan_stamp_.assign(n, 0);
+  const VoxelKey ck = key(c);
+  min_key_ = {ck.x - nx_ / 2, ck.y - ny_ / 2, ck.z - nz_ / 2};
+  const int r = static_cast<int>(std::ceil(cfg_.inflation_radius_m / cfg_.resolution_m));
+  const double r2 = std::pow(cfg_.inflation_radius_m / cfg_.resolution_m, 2) + 1e-9;
+  for (int dx = -r; dx <= r; ++dx)
+    for (int dy = -r; dy <= r; ++dy)
+      for (int dz = -r; dz <= r; ++dz)
+        if (dx * dx + dy * dy + dz * dz <= r2) kernel_.push_back({dx, dy, dz});
+}
+
+Eigen::Vector3d LocalGrid::windowMin() const {
+  return Eigen::Vector3d(min_key_.x, min_key_.y, min_key_.z) * cfg_.resolution_m;
+}
+Eigen::Vector3d LocalGrid::windowMax() const {
+  return Eigen::Vector3d(min_key_.x + nx_, min_key_.y + ny_, min_key_.z + nz_) * cfg_.resolution_m;
+}
+
+bool LocalGrid::inWindow(const VoxelKey& k) const {
+  return k.x >= min_key_.x && k.x < min_key_.x + nx_ && k.y >= min_key_.y &&
+         k.y < min_key_.y + ny_ && k.z >= min_key_.z && k.z < min_key_.z + nz_;
+}
+
+size_t LocalGrid::index(const VoxelKey& k) const {
+  return (static_cast<size_t>(posMod(k.x, nx_)) * ny_ + posMod(k.y, ny_)) * nz_ + posMod(k.z, nz_);
+}
+
+void LocalGrid::recenter(const Eigen::Vector3d& c) {
+  const VoxelKey ck = key(c);
+  const VoxelKey new_min{ck.x - nx_ / 2, ck.y - ny_ / 2, ck.z - nz_ / 2};
+  if (new_min == min_key_) return;
+  const VoxelKey old_min = min_key_;
+  min_key_ = new_min;
+  // Each slot holds the unique key of the old window congruent to it; forget it if that key left.
+  for (int ix = 0; ix < nx_; ++ix) {
+    const int kx = old_min.x + posMod(ix - old_min.x, nx_);
+    const bool out_x = kx < new_min.x || kx >= new_min.x + nx_;
+    for (int iy = 0; iy < ny_; ++iy) {
+      const int ky = old_min.y + posMod(iy - old_min.y, ny_);
+      const bool out_y = out_x || ky < new_min.y || ky >= new_min.y + ny_;
+      for (int iz = 0; iz < nz_; ++iz) {
+        const int kz = old_min.z + posMod(iz - old_min.z, nz_);
+        if (out_y || kz < new_min.z || kz >= new_min.z + nz_) {
+          const size_t idx = (static_cast<size_t>(ix) * ny_ + iy) * nz_ + iz;
+          logodds_[idx] = 0.f;
+          observed_[idx] = 0;
+        }
+      }
+    }
+  }
+  recomputeInflation();
+}
+
+void LocalGrid::recomputeInflation() {
+  std::fill(inflation_.begin(), inflation_.end(), 0);
+  const VoxelKey hi = maxKey();
+  for (int x = min_key_.x; x <= hi.x; ++x)
+    for (int y = min_key_.y; y <= hi.y; ++y)
+      for (int z = min_key_.z; z <= hi.z; ++z) {
+        const VoxelKey k{x, y, z};
+        if (state(k) == CellState::kOccupied) stampInflation(k, +1);
+      }
+}
+
+void LocalGrid::stampInflation(const VoxelKey& k, int sign) {
+  for (const VoxelKey& o : kernel_) {
+    const VoxelKey n{k.x + o.x, k.y + o.y, k.z + o.z};
+    if (!inWindow(n)) continue;
+    uint16_t& c = inflation_[index(n)];
+    c = static_cast<uint16_t>(sign > 0 ? c + 1 : (c > 0 ? c - 1 : 0));
+  }
+}
+
+void LocalGrid::updateCell(size_t idx, const VoxelKey& k, float delta) {
+  const bool was_occ = observed_[idx] && logodds_[idx] > cfg_.logodds_occupied;
+  observed_[idx] = 1;
+  logodds_[idx] = std::clamp(logodds_[idx] + delta, static_cast<float>(cfg_.logodds_min),
+                             static_cast<float>(cfg_.logodds_max));
+  const bool is_occ = logodds_[idx] > cfg_.logodds_occupied;
+  if (is_occ != was_occ) stampInflation(k, is_occ ? +1 : -1);
+}
+
+void LocalGrid::insertScan(const Eigen::Vector3d& origin,
+                           const std::vector<Eigen::Vector3d>& points) {
+  if (++scan_id_ == 0) {  // wrapped: reset stamps so that old ones cannot collide
+    std::fill(scan_stamp_.begin(), scan_stamp_.end(), 0);
+    scan_id_ = 1;
+  }
+  const double res = cfg_.resolution_m;
+  // Hits first, so that a cell hit in this scan is not cleared by a grazing ray of the same scan.
+  for (const auto& p : points) {
+    if (!p.allFinite() || (p - origin).norm() > cfg_.max_ray_length_m) continue;
+    const VoxelKey k = key(p);
+    if (!inWindow(k)) continue;
+    const size_t idx = index(k);
+    if (scan_stamp_[idx] == scan_id_) continue;
+    scan_stamp_[idx] = scan_id_;
+    updateCell(idx, k, static_cast<float>(cfg_.logodds_hit));
+  }
+  for (const auto& p : points) {
+    if (!p.allFinite()) continue;
+    Eigen::Vector3d end = p;
+    const double len = (p - origin).norm();
+    if (len > cfg_.max_ray_length_m) end = origin + (p - origin) * (cfg_.max_ray_length_m / len);
+    const VoxelKey end_key = key(end);
+    traverseCells(origin, end, res, [&](const VoxelKey& k) {
+      if (k == end_key) return false;
+      if (!inWindow(k)) return true;  // the origin may be outside; keep walking inwards
+      const size_t idx = index(k);
+      if (scan_stamp_[idx] == scan_id_) return true;
+      scan_stamp_[idx] = scan_id_;
+      updateCell(idx, k, static_cast<float>(cfg_.logodds_miss));
+      return true;
+    });
+  }
+}
+
+void LocalGrid::setOccupied(const Eigen::Vector3d& p) {
+  const VoxelKey k = key(p);
+  if (!inWindow(k)) return;
+  const size_t idx = index(k);
+  updateCell(idx, k, static_cast<float>(cfg_.logodds_max - logodds_[idx]));
+}
+
+void LocalGrid::setFree(const Eigen::Vector3d& p) {
+  const VoxelKey k = key(p);
+  if (!inWindow(k)) return;
+  const size_t idx = index(k);
+  updateCell(idx, k, static_cast<float>(cfg_.logodds_min - logodds_[idx]));
+}
+
+void LocalGrid::setAllFree() {
+  std::fill(logodds_.begin(), logodds_.end(), static_cast<float>(cfg_.logodds_min));
+  std::fill(observed_.begin(), observed_.end(), 1);
+  std::fill(inflation_.begin(), inflation_.end(), 0);
+}
+
+CellState LocalGrid::state(const VoxelKey& k) const {
+  if (!inWindow(k)) return CellState::kOutside;
+  const size_t idx = index(k);
+  if (!observed_[idx]) return CellState::kUnknown;
+  return logodds_[idx] > cfg_.logodds_occupied ? CellState::kOccupied : CellState::kFree;
+}
+
+bool LocalGrid::isInflated(const VoxelKey& k) const {
+  return inWindow(k) && inflation_[index(k)] > 0;
+}
+
+bool LocalGrid::isBlocked(const VoxelKey& k, bool unknown_is_free) const {
+  if (!inWindow(k)) return true;
+  const size_t idx = index(k);
+  if (inflation_[idx] > 0) return true;
+  return !unknown_is_free && !observed_[idx];
+}
+
+void LocalGrid::occupiedCentersInBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                                     std::vector<Eigen::Vector3d>& out) const {
+  const double res = cfg_.resolution_m;
+  const VoxelKey wmax = maxKey();
+  const int x0 = std::max(min_key_.x, static_cast<int>(std::ceil(lo.x() / res - 0.5)));
+  const int y0 = std::max(min_key_.y, static_cast<int>(std::ceil(lo.y() / res - 0.5)));
+  const int z0 = std::max(min_key_.z, static_cast<int>(std::ceil(lo.z() / res - 0.5)));
+  const int x1 = std::min(wmax.x, static_cast<int>(std::floor(hi.x() / res - 0.5)));
+  const int y1 = std::min(wmax.y, static_cast<int>(std::floor(hi.y() / res - 0.5)));
+  const int z1 = std::min(wmax.z, static_cast<int>(std::floor(hi.z() / res - 0.5)));
+  const float thr = static_cast<float>(cfg_.logodds_occupied);
+  for (int x = x0; x <= x1; ++x)
+    for (int y = y0; y <= y1; ++y) {
+      const size_t base = (static_cast<size_t>(posMod(x, nx_)) * ny_ + posMod(y, ny_)) * nz_;
+      for (int z = z0; z <= z1; ++z) {
+        const size_t idx = base + posMod(z, nz_);
+        if (observed_[idx] && logodds_[idx] > thr) out.push_back(center({x, y, z}));
+      }
+    }
+}
+
+size_t LocalGrid::occupiedCount() const {
+  size_t n = 0;
+  const float thr = static_cast<float>(cfg_.logodds_occupied);
+  for (size_t i = 0; i < logodds_.size(); ++i) n += observed_[i] && logodds_[i] > thr;
+  return n;
+}
+
+}  // namespace efs::traj
