@@ -103,3 +103,16 @@ endfunction()
 function(efs_expect_failure name regex)
   add_test(NAME ${name} COMMAND ${PROJECT_SOURCE_DIR}/scripts/lib/expect_failure "${regex}" ${ARGN})
 endfunction()
+
+# efs_rostest_gtest(NAME TEST_FILE SOURCES ... [DEPENDS ...])
+# A gtest that talks to live nodes: built as a ROS executable (found by rostest as
+# <test pkg="explore_from_sketch" type="NAME">) and run through rostest with TEST_FILE.
+function(efs_rostest_gtest name test_file)
+  cmake_parse_arguments(A "" "" "SOURCES;DEPENDS" ${ARGN})
+  add_executable(${name} ${A_SOURCES})
+  target_include_directories(${name} PRIVATE ${catkin_INCLUDE_DIRS})
+  target_link_libraries(${name} PRIVATE GTest::gtest ${catkin_LIBRARIES} Threads::Threads ${A_DEPENDS})
+  add_dependencies(${name} ${PROJECT_NAME}_generate_messages_cpp)
+  target_compile_definitions(${name} PRIVATE EFS_DEFAULT_SHARED_DATA_DIR="${EFS_SHARED_DATA_DIR}")
+  efs_rostest(${test_file})
+endfunction()

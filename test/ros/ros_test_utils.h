@@ -1,0 +1,88 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// Helpers for rostest gtests that check live nodes.
+#pragma once
+
+#include <ros/master.h>
+#include <ros/ros.h>
+#include <ros/topic.h>
+#include <rosgraph_msgs/Log.h>
+
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <string>
+#include <sys/wait.h>
+#include <vector>
+
+namespace efs::rostest {
+
+/// Waits up to `timeout_s` for one message on `topic`; null if none came.
+template <typename M>
+boost::shared_ptr<const M> waitForMessage(ros::NodeHandle& nh, const std::string& topic, double timeout_s) {
+  return ros::topic::waitForMessage<M>(topic, nh, ros::Duration(timeout_s));
+}
+
+/// True if a node of that name is registered with the master.
+inline bool nodeAlive(const std::string& name) {
+  std::vector<std::string> nodes;
+  ros::master::getNodes(nodes);
+  for (const auto& n : nodes) {
+    if (n == name) return true;
+  }
+  return false;
+}
+
+/// Collects /rosout_agg messages so tests can check what a node said.
+class LogCollector {
+ public:
+  explicit LogCollector(ros::NodeHandle& nh)
+      : sub_(nh.subscribe("/rosout_agg", 100, &LogCollector::onLog, this)) {}
+
+  /// Waits until a message from `node` containing `needle` arrived, up to `timeout_s`.
+  bool waitFor(const std::string& node, const std::string& needle, double timeout_s) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
+    while (ros::WallTime::now() < end) {
+      ros::spinOnce();
+      for (const auto& m : logs_) {
+        if (m.name == node && m.msg.find(needle) != std::string::npos) return true;
+      }
+      ros::WallDuration(0.05).sleep();
+    }
+    return false;
+  }
+
+ private:
+  void onLog(const rosgraph_msgs::Log& m) { logs_.push_back(m); }
+  ros::Subscriber sub_;
+  std::vector<rosgraph_msgs::Log> logs_;
+};
+
+struct NodeRun {
+  int exit_code = -1;  ///< the process's exit status, or 128 + signal if it was killed
+  std::string output;  ///< stdout and stderr together
+};
+
+/// Runs one of this package's node executables to completion (it must stop by itself within
+/// `timeout_s`) against the current master, with extra command-line arguments (e.g. private
+/// parameters as `_key:=value`). The node executables sit beside this test executable.
+inline NodeRun runNode(const std::string& node, const std::string& args, int timeout_s) {
+  std::array<char, 4096> self{};
+  const ssize_t n = readlink("/proc/self/exe", self.data(), self.size() - 1);
+  std::string dir(self.data(), n > 0 ? static_cast<size_t>(n) : 0);
+  dir = dir.substr(0, dir.rfind('/'));
+  const std::string cmd = "timeout " + std::to_string(timeout_s) + " " + dir + "/" + node +
+                          " __name:=" + node + "_under_test " + args + " 2>&1";
+  NodeRun run;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return run;
+  std::array<char, 512> buf{};
+  while (fgets(buf.data(), buf.size(), pipe)) run.output += buf.data();
+  const int status = pclose(pipe);
+  if (WIFEXITED(status)) run.exit_code = WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) run.exit_code = 128 + WTERMSIG(status);
+  return run;
+}
+
+}  // namespace efs::rostest
