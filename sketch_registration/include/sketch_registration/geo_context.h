@@ -1,0 +1,89 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// GeoContext (paper Sec. V-A): the maximum horizontal range of the visible boundary in each of
+// N_b azimuth bins, and the three similarities between a prior descriptor I^p and an observation
+// descriptor I^o:
+//   S_cos  inverse-weighted cosine (w_i = 1 / (I^p_i + I^o_i)), maximised over column shifts;
+//   S_FFT  (cos(f^p, f^o) + 1) / 2 over the magnitudes of the N_c lowest DFT components;
+//   S_cv   1 - |CV^p - CV^o| / (CV^p + CV^o);
+// combined as S = S_cos^a1 * S_FFT^a2 * S_cv^a3.
+//
+// Bin k is centred on azimuth k * 2pi / N_b, so that a column shift of n bins is a rotation of
+// exactly n * 2pi / N_b, and a reversed descriptor (a mirror image) stays bin-aligned.
+#pragma once
+
+#include <vector>
+
+#include "sketch_registration/hpr.h"
+#include "sketch_registration/types.h"
+
+namespace efs::registration {
+
+struct DescriptorConfig {
+  int num_bins = 90;          ///< N_b
+  int fine_bins_per_bin = 8;  ///< HPR depth-buffer resolution = N_b * this
+  int num_fft = 10;           ///< N_c
+  double min_range_m = 0.2;
+  double max_range_m = 30.0;   ///< in the frame of the points described
+  double point_radius_m = 0.1;
+  int min_valid_bins = 6;      ///< fewer non-empty bins: the descriptor is unusable
+
+  void validate() const;
+  HprConfig hprConfig() const;
+};
+
+/// GeoContext descriptor with its shift-invariant features.
+struct GeoContext {
+  std::vector<float> range_m;       ///< N_b maximum ranges, 0 for an empty bin
+  std::vector<float> fft_magnitude; ///< N_c magnitudes |DFT_k|, k = 0..N_c-1
+  double cv = 0.0;                  ///< coefficient of variation sigma / mu
+  bool valid = false;               ///< enough non-empty bins to be compared
+};
+
+/// Descriptor of a point set seen from `viewpoint_m` (HPR is part of it).
+GeoContext computeGeoContext(const Points2d& points_m, const Eigen::Vector2d& viewpoint_m,
+                             const DescriptorConfig& config);
+/// Descriptor from a filled depth buffer (Phase 1 reuses one buffer for all candidates).
+GeoContext geoContextFromBuffer(const PolarDepthBuffer& buffer, const DescriptorConfig& config);
+/// Fills fft_magnitude, cv and valid from range_m.
+void computeFeatures(GeoContext& descriptor, const DescriptorConfig& config);
+
+/// S_inv_cos of two equally long range vectors (no shift), in [0, 1].
+double inverseCosine(const float* prior, const float* observed, int n);
+
+struct ShiftMatch {
+  double score = 0.0;     ///< S_cos = max over shifts of S_inv_cos
+  int shift = 0;          ///< n of the best shift
+  bool reversed = false;  ///< the best match is the mirror image (I^o read backwards)
+  double yaw_rad = 0.0;   ///< rotation sketch -> world implied by the shift
+};
+
+/// Maximises S_inv_cos over all column shifts of `observed` (and, with `try_reversed`, of its
+/// mirror image). For the plain case prior_i = observed_{i+n} and the sketch-to-world yaw is
+/// n * 2pi / N_b; for the mirrored case prior_i = observed_{n-i} and the yaw (after the
+/// reflection diag(1,-1)) is also n * 2pi / N_b.
+ShiftMatch bestColumnShift(const GeoContext& prior, const GeoContext& observed, bool try_reversed);
+
+/// The observation descriptor laid out twice (plain and mirrored) so that every column shift is
+/// a contiguous window: prepared once per frame, used for every candidate.
+struct ShiftTables {
+  explicit ShiftTables(const GeoContext& observed);
+  int n = 0;
+  std::vector<float> plain, reversed;
+};
+ShiftMatch bestColumnShift(const float* prior_range_m, const ShiftTables& tables,
+                           bool try_reversed);
+
+double fftSimilarity(const GeoContext& prior, const GeoContext& observed);
+double cvSimilarity(const GeoContext& prior, const GeoContext& observed);
+
+struct SimilarityWeights {
+  double alpha_cos = 0.4;  ///< alpha_1
+  double alpha_fft = 0.4;  ///< alpha_2
+  double alpha_cv = 0.2;   ///< alpha_3
+  void validate() const;
+};
+
+double combineSimilarity(double s_cos, double s_fft, double s_cv, const SimilarityWeights& w);
+
+}  // namespace efs::registration

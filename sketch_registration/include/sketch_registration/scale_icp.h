@@ -1,0 +1,68 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// Scale-ICP (paper Sec. V-C; bounded-scale ICP after Ying et al. 2009): refines a sketch->world
+// similarity against the boundary of the observation map projected to 2D, and scores it with the
+// fitness F = mean world-frame distance between matched points.
+//
+// Correspondences are searched from the observation into the sketch (a kd-tree over the sketch
+// points): the observation is local while the sketch is global, so this direction pairs every
+// observed wall with its sketch wall and leaves unobserved parts of the sketch out. Observed
+// points that fall outside the sketch's extent (a partial sketch) are ignored. Correspondences are
+// trimmed (the worst fraction and those beyond an annealed distance are dropped) and the scale is
+// bounded, both overall and per iteration.
+#pragma once
+
+#include <memory>
+
+#include "efs_common/point_kdtree.h"
+#include "efs_common/sim2.h"
+#include "sketch_registration/types.h"
+
+namespace efs::registration {
+
+struct ScaleIcpConfig {
+  int max_iterations = 30;
+  double max_correspondence_m = 4.0;  ///< world, first iteration
+  double min_correspondence_m = 1.0;  ///< world, annealed down to this
+  double anneal_factor = 0.8;         ///< per iteration
+  double trim_ratio = 0.8;            ///< keep this fraction of the closest pairs
+  double scale_min = 0.4;             ///< world metres per sketch metre
+  double scale_max = 2.5;
+  double max_scale_step = 0.1;        ///< relative scale change per iteration
+  double convergence_m = 1e-3;        ///< stop when the transform moves less than this
+  double fitness_trim_ratio = 0.8;    ///< F over this fraction of the closest observed points
+  double inlier_distance_m = 1.0;     ///< for the inlier ratio
+  double min_inlier_ratio = 0.3;      ///< below this the hypothesis is invalid
+  double sketch_margin_m = 3.0;       ///< sketch frame, around the sketch's bounding box
+  int min_points = 20;                ///< observed points inside the sketch needed
+  void validate() const;
+};
+
+struct IcpResult {
+  Sim2 T_world_sketch;
+  double fitness_m = 1e9;     ///< F
+  double inlier_ratio = 0.0;
+  int iterations = 0;
+  int num_points = 0;         ///< observed points used
+  bool valid = false;         ///< enough points and inliers
+};
+
+class ScaleIcp {
+ public:
+  ScaleIcp(const Points2d& sketch_points_m, const ScaleIcpConfig& config);
+
+  /// Iterates from `T_init` on `observed_world_m` (2D boundary of the observation map).
+  IcpResult refine(const Sim2& T_init, const Points2d& observed_world_m) const;
+  /// Only the fitness of `T` (no iterations).
+  IcpResult evaluate(const Sim2& T, const Points2d& observed_world_m) const;
+
+  const ScaleIcpConfig& config() const { return config_; }
+  size_t numSketchPoints() const { return tree_.size(); }
+
+ private:
+  ScaleIcpConfig config_;
+  PointKdTree2d tree_;
+  Eigen::Vector2d box_min_, box_max_;
+};
+
+}  // namespace efs::registration

@@ -1,0 +1,145 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// SketchRegistration: the whole of the paper's Algorithm 1 behind one call per frame.
+//   construction  = Phase 1 (HPR + GeoContext at every candidate location of the sketch);
+//   addFrame()    = Phase 2 for one frame: HPR + GeoContext at the robot, FindCand, multi-frame
+//                   verification, Scale-ICP of the surviving transforms, fitness threshold,
+//                   confidence softmax, stable hypothesis ids.
+// It takes plain types (sketch boundary points and candidate locations in the sketch's metric
+// frame, the local map in the world frame) so that the ROS node and the evaluation tool stay thin.
+// Time is injected; nothing here reads a clock.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "efs_common/sim2.h"
+#include "sketch_registration/candidate_database.h"
+#include "sketch_registration/geo_context.h"
+#include "sketch_registration/multi_frame_verifier.h"
+#include "sketch_registration/observation.h"
+#include "sketch_registration/scale_icp.h"
+
+namespace efs::registration {
+
+/// How mirror-image sketches are handled. Matching the mirrored descriptor costs about twice the
+/// shift search; without it a mirrored sketch finds no consistent triplet.
+enum class ReflectionMode {
+  kIgnore,    ///< proper transforms only
+  kDetect,    ///< search reflected transforms too; report them apart, status kMirroredSketch
+  kRegister,  ///< reflected transforms are ordinary hypotheses (Sim2::reflected = true)
+};
+
+enum class RegistrationStatus {
+  kOk,                    ///< at least one hypothesis
+  kTooFewFrames,          ///< fewer than three usable frames so far
+  kNoConsistentTriplet,   ///< multi-frame verification left no potential transform
+  kAllRejectedByFitness,  ///< Scale-ICP fitness above F_thresh for every transform
+  kNoCandidates,          ///< the sketch has no usable candidate location
+  kBadInput,              ///< this frame was unusable (empty / non-finite map, time, position)
+  kOdometryJump,          ///< the robot jumped; the multi-frame state was restarted
+  kMirroredSketch,        ///< only mirror-image transforms fit (kDetect mode)
+};
+const char* toString(RegistrationStatus status);
+
+struct Hypothesis {
+  int id = -1;                ///< stable over frames while the hypothesis survives
+  Sim2 T_world_sketch;
+  double fitness_m = 0.0;     ///< F
+  double confidence = 0.0;    ///< softmax(-tau F) over the reported hypotheses
+  double inlier_ratio = 0.0;
+  int age_frames = 0;         ///< frames since first reported
+};
+
+struct FrameDiagnostics {
+  double time_s = 0.0;
+  Eigen::Vector2d robot_world_m = Eigen::Vector2d::Zero();
+  GeoContext descriptor;              ///< of the observation at the robot
+  std::vector<Candidate> candidates;  ///< FindCand output of this frame
+  bool used_for_verification = false; ///< false: too close to the previous frame or no candidates
+  VerifierStats verifier;
+  size_t representatives = 0;
+  size_t icp_runs = 0;
+  size_t descriptor_points = 0;
+  size_t icp_points = 0;
+};
+
+struct RegistrationResult {
+  RegistrationStatus status = RegistrationStatus::kTooFewFrames;
+  std::string message;
+  std::vector<Hypothesis> hypotheses;           ///< best (highest confidence) first
+  std::vector<Hypothesis> mirrored_hypotheses;  ///< kDetect: reflected fits kept apart
+  bool best_is_mirrored = false;                ///< kRegister: the best hypothesis is reflected
+  size_t frames_used = 0;                       ///< frames in the multi-frame verification
+  FrameDiagnostics last_frame;
+};
+
+struct SketchRegistrationConfig {
+  double d_gap_m = 1.0;                 ///< candidate spacing (for makeCandidateGrid callers)
+  double scale_guess = 1.0;             ///< s_g: world metres per sketch metre
+  double scale_tolerance_factor = 2.5;  ///< true scale within [s_g / f, s_g * f]
+  DescriptorConfig descriptor;          ///< max_range_m / point_radius_m in world metres
+  double sketch_point_radius_m = 0.1;   ///< half the sketch point spacing (sketch metres)
+  RetrievalConfig retrieval;            ///< eta, alphas, downsampling
+  VerifierConfig verifier;              ///< its scale and reflection fields are set from here
+  ScaleIcpConfig icp;                   ///< its scale bounds are set from here
+  ObservationConfig observation;
+  double fitness_threshold_m = 1.0;     ///< F_thresh
+  double confidence_tau = 0.3;          ///< tau
+  double max_speed_mps = 20.0;          ///< faster between frames = odometry jump
+  ReflectionMode reflection = ReflectionMode::kDetect;
+  int max_icp_inputs = 12;              ///< representatives refined per frame
+  int max_hypotheses = 10;
+  double merge_distance = 10.0;         ///< d_T below which refined hypotheses are one
+  void validate() const;
+};
+
+class SketchRegistration {
+ public:
+  using Config = SketchRegistrationConfig;
+
+  /// Phase 1. `sketch_boundary_m`: the sketch's wall/boundary points; `candidates_m`: candidate
+  /// locations on the d_gap grid of the traversable region (both in the sketch frame). Non-finite
+  /// entries are dropped; an empty sketch or candidate set is allowed (status kNoCandidates).
+  SketchRegistration(const Config& config, Points2d sketch_boundary_m, Points2d candidates_m);
+
+  /// Phase 2 for one frame. `time_s` must increase; `robot_world_m` is the robot position and
+  /// `local_map_world_m` the accumulated local map, both in the world (LIO) frame.
+  const RegistrationResult& addFrame(double time_s, const Eigen::Vector3d& robot_world_m,
+                                     const Points3d& local_map_world_m);
+
+  const RegistrationResult& result() const { return result_; }
+  const CandidateDatabase& database() const { return database_; }
+  const MultiFrameVerifier& verifier() const { return verifier_; }
+  const Config& config() const { return config_; }
+  const Points2d& sketchBoundary() const { return sketch_; }
+  /// Forgets all frames and hypotheses (keeps Phase 1).
+  void reset();
+
+ private:
+  void updateHypotheses(const Points2d& icp_points, FrameDiagnostics& diag);
+  RegistrationResult& fail(RegistrationStatus status, const std::string& message);
+
+  Config config_;
+  Points2d sketch_;
+  CandidateDatabase database_;
+  MultiFrameVerifier verifier_;
+  std::unique_ptr<ScaleIcp> icp_;
+  RegistrationResult result_;
+  std::vector<Hypothesis> live_;  ///< all refined hypotheses (both handednesses)
+  int next_id_ = 0;
+  bool has_last_ = false;
+  double last_time_s_ = 0.0;
+  Eigen::Vector2d last_robot_m_ = Eigen::Vector2d::Zero();
+};
+
+/// The per-module configs derived from the top-level one (sketch-frame descriptor range, scale
+/// bounds, reflection); exposed so that tools reproduce exactly what the class uses.
+DescriptorConfig sketchDescriptorConfig(const SketchRegistrationConfig& config);
+DescriptorConfig observationDescriptorConfig(const SketchRegistrationConfig& config);
+VerifierConfig verifierConfig(const SketchRegistrationConfig& config);
+ScaleIcpConfig scaleIcpConfig(const SketchRegistrationConfig& config);
+RetrievalConfig retrievalConfig(const SketchRegistrationConfig& config);
+
+}  // namespace efs::registration

@@ -1,0 +1,163 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "sketch_registration/geo_context.h"
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+
+#include "efs_common/config_check.h"
+
+namespace efs::registration {
+
+void DescriptorConfig::validate() const {
+  requireInRange("num_bins", num_bins, 8, 1024);
+  requireInRange("fine_bins_per_bin", fine_bins_per_bin, 1, 256);
+  requireInRange("num_fft", num_fft, 1, num_bins / 2);
+  requireInRange("min_range_m", min_range_m, 0.0, 1e6);
+  requirePositive("max_range_m", max_range_m);
+  requireThat(max_range_m > min_range_m, "max_range_m", "must be > min_range_m");
+  requireInRange("point_radius_m", point_radius_m, 0.0, 100.0);
+  requireInRange("min_valid_bins", min_valid_bins, 1, num_bins);
+}
+
+HprConfig DescriptorConfig::hprConfig() const {
+  HprConfig h;
+  h.num_fine_bins = num_bins * fine_bins_per_bin;
+  h.min_range_m = min_range_m;
+  h.max_range_m = max_range_m;
+  h.point_radius_m = point_radius_m;
+  h.angle_offset_rad = M_PI / num_bins;  // coarse bin k centred on k * 2pi / N_b
+  return h;
+}
+
+void SimilarityWeights::validate() const {
+  requireInRange("alpha_cos", alpha_cos, 0.0, 100.0);
+  requireInRange("alpha_fft", alpha_fft, 0.0, 100.0);
+  requireInRange("alpha_cv", alpha_cv, 0.0, 100.0);
+  requireThat(alpha_cos + alpha_fft + alpha_cv > 0.0, "alpha_cos", "weights must not all be 0");
+}
+
+void computeFeatures(GeoContext& d, const DescriptorConfig& config) {
+  const int n = static_cast<int>(d.range_m.size());
+  int nonzero = 0;
+  double sum = 0.0, sum2 = 0.0;
+  for (float r : d.range_m) {
+    nonzero += r > 0.0f;
+    sum += r;
+    sum2 += double(r) * r;
+  }
+  const double mean = n > 0 ? sum / n : 0.0;
+  const double var = n > 0 ? std::max(0.0, sum2 / n - mean * mean) : 0.0;
+  d.cv = mean > 0.0 ? std::sqrt(var) / mean : 0.0;
+  d.valid = nonzero >= config.min_valid_bins && mean > 0.0;
+  // Low-frequency DFT magnitudes: shift-invariant, so they describe layout without heading. A
+  // direct DFT of N_c components costs N_b * N_c, less than an FFT's setup for N_b = 90.
+  d.fft_magnitude.assign(static_cast<size_t>(config.num_fft), 0.0f);
+  for (int k = 0; k < config.num_fft; ++k) {
+    double re = 0.0, im = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const double a = 2.0 * M_PI * k * i / n;
+      re += d.range_m[i] * std::cos(a);
+      im -= d.range_m[i] * std::sin(a);
+    }
+    d.fft_magnitude[static_cast<size_t>(k)] = static_cast<float>(std::hypot(re, im));
+  }
+}
+
+GeoContext geoContextFromBuffer(const PolarDepthBuffer& buffer, const DescriptorConfig& config) {
+  GeoContext d;
+  d.range_m.assign(static_cast<size_t>(config.num_bins), 0.0f);
+  const int m = config.fine_bins_per_bin;
+  for (int i = 0; i < config.num_bins; ++i) {
+    float best = 0.0f;
+    for (int k = i * m; k < (i + 1) * m; ++k) {
+      const float z = buffer.depth(k);
+      if (std::isfinite(z) && z > best) best = z;
+    }
+    d.range_m[static_cast<size_t>(i)] = best;
+  }
+  computeFeatures(d, config);
+  return d;
+}
+
+GeoContext computeGeoContext(const Points2d& points_m, const Eigen::Vector2d& viewpoint_m,
+                             const DescriptorConfig& config) {
+  PolarDepthBuffer buffer(config.hprConfig());
+  buffer.splatAll(points_m, viewpoint_m);
+  return geoContextFromBuffer(buffer, config);
+}
+
+double inverseCosine(const float* prior, const float* observed, int n) {
+  using Arr = Eigen::Map<const Eigen::ArrayXf>;
+  const Arr a(prior, n), b(observed, n);
+  // w = 1 / (a + b); bins empty on both sides contribute nothing (tiny epsilon, no branch).
+  // Stack-allocated up to 1024 bins: this runs ~N_b times per candidate per frame.
+  const Eigen::Array<float, Eigen::Dynamic, 1, Eigen::ColMajor, 1024, 1> w =
+      (a + b + 1e-9f).inverse();
+  const float num = (a * b * w).sum();
+  const float da = (a * a * w).sum();
+  const float db = (b * b * w).sum();
+  if (!(da > 0.0f) || !(db > 0.0f)) return 0.0;
+  const double s = num / std::sqrt(double(da) * db);
+  return std::min(1.0, std::max(0.0, s));
+}
+
+ShiftTables::ShiftTables(const GeoContext& observed) {
+  n = static_cast<int>(observed.range_m.size());
+  plain.resize(2 * static_cast<size_t>(n));
+  reversed.resize(2 * static_cast<size_t>(n));
+  for (int i = 0; i < 2 * n; ++i) {
+    plain[static_cast<size_t>(i)] = observed.range_m[static_cast<size_t>(i % n)];
+    // r_j = o_{-j}; the window starting at m reads o_{n' - i} with n' = -m (mod N).
+    reversed[static_cast<size_t>(i)] = observed.range_m[static_cast<size_t>((2 * n - i) % n)];
+  }
+}
+
+ShiftMatch bestColumnShift(const float* prior, const ShiftTables& tables, bool try_reversed) {
+  ShiftMatch best;
+  const int n = tables.n;
+  if (n == 0) return best;
+  for (int s = 0; s < n; ++s) {
+    const double v = inverseCosine(prior, tables.plain.data() + s, n);
+    if (v > best.score) best = ShiftMatch{v, s, false, 0.0};
+  }
+  if (try_reversed) {
+    for (int m = 0; m < n; ++m) {
+      const double v = inverseCosine(prior, tables.reversed.data() + m, n);
+      if (v > best.score) best = ShiftMatch{v, (n - m) % n, true, 0.0};
+    }
+  }
+  best.yaw_rad = std::remainder(2.0 * M_PI * best.shift / n, 2.0 * M_PI);
+  return best;
+}
+
+ShiftMatch bestColumnShift(const GeoContext& prior, const GeoContext& observed,
+                           bool try_reversed) {
+  if (prior.range_m.empty() || prior.range_m.size() != observed.range_m.size()) return {};
+  return bestColumnShift(prior.range_m.data(), ShiftTables(observed), try_reversed);
+}
+
+double fftSimilarity(const GeoContext& prior, const GeoContext& observed) {
+  const size_t n = std::min(prior.fft_magnitude.size(), observed.fft_magnitude.size());
+  double dot = 0.0, na = 0.0, nb = 0.0;
+  for (size_t k = 0; k < n; ++k) {
+    dot += double(prior.fft_magnitude[k]) * observed.fft_magnitude[k];
+    na += double(prior.fft_magnitude[k]) * prior.fft_magnitude[k];
+    nb += double(observed.fft_magnitude[k]) * observed.fft_magnitude[k];
+  }
+  if (!(na > 0.0) || !(nb > 0.0)) return 0.0;
+  return std::min(1.0, std::max(0.0, 0.5 * (dot / std::sqrt(na * nb) + 1.0)));
+}
+
+double cvSimilarity(const GeoContext& prior, const GeoContext& observed) {
+  const double sum = prior.cv + observed.cv;
+  if (!(sum > 0.0)) return 1.0;  // both perfectly uniform
+  return std::min(1.0, std::max(0.0, 1.0 - std::abs(prior.cv - observed.cv) / sum));
+}
+
+double combineSimilarity(double s_cos, double s_fft, double s_cv, const SimilarityWeights& w) {
+  return std::pow(std::max(0.0, s_cos), w.alpha_cos) * std::pow(std::max(0.0, s_fft), w.alpha_fft) *
+         std::pow(std::max(0.0, s_cv), w.alpha_cv);
+}
+
+}  // namespace efs::registration

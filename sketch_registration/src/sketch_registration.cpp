@@ -1,0 +1,296 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "sketch_registration/sketch_registration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "efs_common/config_check.h"
+
+namespace efs::registration {
+
+const char* toString(RegistrationStatus status) {
+  switch (status) {
+    case RegistrationStatus::kOk: return "ok";
+    case RegistrationStatus::kTooFewFrames: return "too_few_frames";
+    case RegistrationStatus::kNoConsistentTriplet: return "no_consistent_triplet";
+    case RegistrationStatus::kAllRejectedByFitness: return "all_rejected_by_fitness";
+    case RegistrationStatus::kNoCandidates: return "no_candidates";
+    case RegistrationStatus::kBadInput: return "bad_input";
+    case RegistrationStatus::kOdometryJump: return "odometry_jump";
+    case RegistrationStatus::kMirroredSketch: return "mirrored_sketch";
+  }
+  return "unknown";
+}
+
+void SketchRegistrationConfig::validate() const {
+  requirePositive("d_gap_m", d_gap_m);
+  requirePositive("scale_guess", scale_guess);
+  requireInRange("scale_tolerance_factor", scale_tolerance_factor, 1.0, 1e3);
+  requireInRange("sketch_point_radius_m", sketch_point_radius_m, 0.0, 100.0);
+  requirePositive("fitness_threshold_m", fitness_threshold_m);
+  requireInRange("confidence_tau", confidence_tau, 0.0, 1e3);
+  requirePositive("max_speed_mps", max_speed_mps);
+  requireInRange("max_icp_inputs", max_icp_inputs, 1, 100000);
+  requireInRange("max_hypotheses", max_hypotheses, 1, 100000);
+  requirePositive("merge_distance", merge_distance);
+  sketchDescriptorConfig(*this).validate();
+  observationDescriptorConfig(*this).validate();
+  retrievalConfig(*this).validate();
+  verifierConfig(*this).validate();
+  scaleIcpConfig(*this).validate();
+  observation.validate();
+}
+
+DescriptorConfig sketchDescriptorConfig(const SketchRegistrationConfig& c) {
+  DescriptorConfig d = c.descriptor;
+  // The observation's range limit, expressed in sketch metres through the scale guess.
+  d.max_range_m = c.descriptor.max_range_m / c.scale_guess;
+  d.min_range_m = c.descriptor.min_range_m / c.scale_guess;
+  d.point_radius_m = c.sketch_point_radius_m;
+  return d;
+}
+
+DescriptorConfig observationDescriptorConfig(const SketchRegistrationConfig& c) {
+  DescriptorConfig d = c.descriptor;
+  d.point_radius_m = std::max(c.descriptor.point_radius_m, 0.5 * c.observation.descriptor_voxel_m);
+  return d;
+}
+
+VerifierConfig verifierConfig(const SketchRegistrationConfig& c) {
+  VerifierConfig v = c.verifier;
+  v.scale_guess = c.scale_guess;
+  v.scale_tolerance_factor = c.scale_tolerance_factor;
+  v.allow_reflection = c.reflection != ReflectionMode::kIgnore;
+  return v;
+}
+
+ScaleIcpConfig scaleIcpConfig(const SketchRegistrationConfig& c) {
+  ScaleIcpConfig s = c.icp;
+  s.scale_min = c.scale_guess / c.scale_tolerance_factor;
+  s.scale_max = c.scale_guess * c.scale_tolerance_factor;
+  return s;
+}
+
+RetrievalConfig retrievalConfig(const SketchRegistrationConfig& c) {
+  RetrievalConfig r = c.retrieval;
+  r.try_reversed = c.reflection != ReflectionMode::kIgnore;
+  return r;
+}
+
+namespace {
+SketchRegistrationConfig validated(const SketchRegistrationConfig& c) {
+  c.validate();
+  return c;
+}
+}  // namespace
+
+SketchRegistration::SketchRegistration(const Config& config, Points2d sketch_boundary_m,
+                                       Points2d candidates_m)
+    : config_(validated(config)),
+      verifier_(verifierConfig(config_)) {
+  for (const auto& p : sketch_boundary_m) {
+    if (p.allFinite()) sketch_.push_back(p);
+  }
+  database_ = CandidateDatabase(sketch_, std::move(candidates_m), sketchDescriptorConfig(config_));
+  icp_ = std::make_unique<ScaleIcp>(sketch_, scaleIcpConfig(config_));
+}
+
+void SketchRegistration::reset() {
+  verifier_.reset();
+  live_.clear();
+  result_ = RegistrationResult{};
+  has_last_ = false;
+}
+
+RegistrationResult& SketchRegistration::fail(RegistrationStatus status,
+                                             const std::string& message) {
+  result_.status = status;
+  result_.message = message;
+  return result_;
+}
+
+const RegistrationResult& SketchRegistration::addFrame(double time_s,
+                                                       const Eigen::Vector3d& robot_world_m,
+                                                       const Points3d& local_map_world_m) {
+  FrameDiagnostics diag;
+  diag.time_s = time_s;
+  result_.last_frame = diag;
+  if (!std::isfinite(time_s) || !robot_world_m.allFinite()) {
+    return fail(RegistrationStatus::kBadInput, "non-finite time or robot position; frame ignored");
+  }
+  if (has_last_ && !(time_s > last_time_s_)) {
+    return fail(RegistrationStatus::kBadInput, "time does not increase; frame ignored");
+  }
+  if (database_.validCount() == 0) {
+    return fail(RegistrationStatus::kNoCandidates,
+                "the sketch has no candidate location with a usable descriptor (" +
+                    std::to_string(database_.size()) + " candidates, " +
+                    std::to_string(sketch_.size()) + " boundary points)");
+  }
+  const Eigen::Vector2d robot_xy = robot_world_m.head<2>();
+  diag.robot_world_m = robot_xy;
+  if (has_last_) {
+    const double speed = (robot_xy - last_robot_m_).norm() / (time_s - last_time_s_);
+    if (speed > config_.max_speed_mps) {
+      std::ostringstream os;
+      os << "robot moved at " << speed << " m/s since the last frame (> max_speed_mps "
+         << config_.max_speed_mps << "); registration restarted";
+      reset();
+      has_last_ = true;
+      last_time_s_ = time_s;
+      last_robot_m_ = robot_xy;
+      result_.last_frame = diag;
+      return fail(RegistrationStatus::kOdometryJump, os.str());
+    }
+  }
+  has_last_ = true;
+  last_time_s_ = time_s;
+  last_robot_m_ = robot_xy;
+
+  const ObservationConfig& oc = config_.observation;
+  const ProjectedMap desc_map =
+      projectLocalMap(local_map_world_m, robot_world_m, oc.slice_min_dz_m, oc.slice_max_dz_m,
+                      config_.descriptor.max_range_m, oc.descriptor_voxel_m);
+  diag.descriptor_points = desc_map.points_m.size();
+  const DescriptorConfig odc = observationDescriptorConfig(config_);
+  diag.descriptor = computeGeoContext(desc_map.points_m, robot_xy, odc);
+  result_.last_frame = diag;
+  if (!diag.descriptor.valid) {
+    std::ostringstream os;
+    os << "local map unusable: " << desc_map.num_input << " points, " << desc_map.num_non_finite
+       << " non-finite, " << desc_map.num_in_band << " in the height band within range; frame ignored";
+    return fail(RegistrationStatus::kBadInput, os.str());
+  }
+
+  diag.candidates = database_.findCandidates(diag.descriptor, retrievalConfig(config_));
+  diag.used_for_verification = verifier_.addFrame(robot_xy, diag.candidates);
+  if (diag.used_for_verification) diag.verifier = verifier_.lastStats();
+  diag.representatives = verifier_.representatives().size();
+  result_.frames_used = verifier_.numFrames();
+
+  const ProjectedMap icp_map =
+      projectLocalMap(local_map_world_m, robot_world_m, oc.slice_min_dz_m, oc.slice_max_dz_m,
+                      oc.icp_range_m, oc.icp_voxel_m);
+  const Points2d icp_points = thinEvenly(icp_map.points_m, static_cast<size_t>(oc.icp_max_points));
+  diag.icp_points = icp_points.size();
+  updateHypotheses(icp_points, diag);
+  result_.last_frame = diag;
+
+  result_.hypotheses.clear();
+  result_.mirrored_hypotheses.clear();
+  for (const Hypothesis& h : live_) {
+    if (h.T_world_sketch.reflected && config_.reflection == ReflectionMode::kDetect) {
+      result_.mirrored_hypotheses.push_back(h);
+    } else {
+      result_.hypotheses.push_back(h);
+    }
+  }
+  auto softmax = [&](std::vector<Hypothesis>& hs) {
+    double z = 0.0;
+    for (const auto& h : hs) z += std::exp(-config_.confidence_tau * h.fitness_m);
+    for (auto& h : hs) h.confidence = std::exp(-config_.confidence_tau * h.fitness_m) / z;
+    std::stable_sort(hs.begin(), hs.end(),
+                     [](const Hypothesis& a, const Hypothesis& b) { return a.fitness_m < b.fitness_m; });
+  };
+  softmax(result_.hypotheses);
+  softmax(result_.mirrored_hypotheses);
+  result_.best_is_mirrored =
+      !result_.hypotheses.empty() && result_.hypotheses.front().T_world_sketch.reflected;
+
+  std::ostringstream os;
+  if (!result_.hypotheses.empty()) {
+    result_.status = RegistrationStatus::kOk;
+    os << result_.hypotheses.size() << " hypotheses; best F = " << result_.hypotheses[0].fitness_m
+       << " m" << (result_.best_is_mirrored ? " (mirror-image sketch)" : "");
+  } else if (!result_.mirrored_hypotheses.empty()) {
+    result_.status = RegistrationStatus::kMirroredSketch;
+    os << "only mirror-image transforms fit the sketch (best F = "
+       << result_.mirrored_hypotheses[0].fitness_m << " m): the sketch looks mirrored";
+  } else if (verifier_.numFrames() < 3) {
+    result_.status = RegistrationStatus::kTooFewFrames;
+    os << verifier_.numFrames() << " of 3 frames" << (diag.used_for_verification ? "" : " (this frame too close to the last or without candidates)");
+  } else if (diag.icp_runs == 0) {
+    result_.status = RegistrationStatus::kNoConsistentTriplet;
+    os << "no consistent triplet over " << verifier_.numFrames() << " frames";
+  } else {
+    result_.status = RegistrationStatus::kAllRejectedByFitness;
+    os << diag.icp_runs << " transforms refined, none with F below " << config_.fitness_threshold_m
+       << " m";
+  }
+  result_.message = os.str();
+  return result_;
+}
+
+void SketchRegistration::updateHypotheses(const Points2d& icp_points, FrameDiagnostics& diag) {
+  struct Input {
+    int id;
+    int age;
+    Sim2 T;
+  };
+  std::vector<Input> inputs;
+  for (const Hypothesis& h : live_) inputs.push_back({h.id, h.age_frames, h.T_world_sketch});
+  int added = 0;
+  for (const Representative& r : verifier_.representatives()) {
+    if (added >= config_.max_icp_inputs) break;
+    // A representative already tracked by a live hypothesis only costs a refinement.
+    bool known = false;
+    for (const Hypothesis& h : live_) {
+      if (transformDistance(h.T_world_sketch, r.T_world_sketch, config_.verifier.lambda) <
+          config_.merge_distance) {
+        known = true;
+        break;
+      }
+    }
+    if (known) continue;
+    inputs.push_back({-1, 0, r.T_world_sketch});
+    ++added;
+  }
+  struct Refined {
+    int id;
+    int age;
+    IcpResult r;
+  };
+  std::vector<Refined> refined;
+  for (const Input& in : inputs) {
+    const IcpResult r = icp_->refine(in.T, icp_points);
+    ++diag.icp_runs;
+    if (!r.valid || !(r.fitness_m <= config_.fitness_threshold_m)) continue;
+    refined.push_back({in.id, in.age, r});
+  }
+  std::stable_sort(refined.begin(), refined.end(), [](const Refined& a, const Refined& b) {
+    return a.r.fitness_m < b.r.fitness_m;
+  });
+  std::vector<Refined> kept;
+  for (const Refined& f : refined) {
+    bool merged = false;
+    for (Refined& k : kept) {
+      if (transformDistance(k.r.T_world_sketch, f.r.T_world_sketch, config_.verifier.lambda) <
+          config_.merge_distance) {
+        // The oldest id survives a merge, so a hypothesis keeps its id while it lives.
+        if (f.id >= 0 && (k.id < 0 || f.id < k.id)) {
+          k.id = f.id;
+          k.age = std::max(k.age, f.age);
+        }
+        merged = true;
+        break;
+      }
+    }
+    if (!merged) kept.push_back(f);
+  }
+  if (static_cast<int>(kept.size()) > config_.max_hypotheses) {
+    kept.resize(static_cast<size_t>(config_.max_hypotheses));
+  }
+  live_.clear();
+  for (Refined& k : kept) {
+    Hypothesis h;
+    h.id = k.id >= 0 ? k.id : next_id_++;
+    h.T_world_sketch = k.r.T_world_sketch;
+    h.fitness_m = k.r.fitness_m;
+    h.inlier_ratio = k.r.inlier_ratio;
+    h.age_frames = k.age + 1;
+    live_.push_back(h);
+  }
+}
+
+}  // namespace efs::registration
