@@ -40,7 +40,8 @@ cv::Mat1b drawTunnelNetwork(double width_m, double height_m, double m_per_px, ui
   cv::Point2d p(20, h / 2.0);
   const double trunk_step = 100.0;
   for (double x = 0; x < width_m - trunk_step; x += trunk_step) {
-    const cv::Point2d next(std::min(w - 20.0, p.x + trunk_step / m_per_px), h * (0.3 + 0.4 * u(rng)));
+    const cv::Point2d next(std::min(w - 20.0, p.x + trunk_step / m_per_px),
+                           h * (0.3 + 0.4 * u(rng)));
     cv::line(free, p, next, cv::Scalar(255), static_cast<int>(8.0 / m_per_px));
     // Two or three branches per 100 m of trunk, north or south, some forking.
     const int branches = 2 + static_cast<int>(u(rng) * 2);
@@ -82,12 +83,14 @@ Row measure(const std::string& name, const LoadedSketch& sketch, const PriorMapC
 
 int main() {
   std::vector<Row> rows;
-  for (const char* name : {"sketch_ed21.png", "sketch_ed21_1.png", "sketch_ed21_2.png", "sketch_ed21_3.png"}) {
+  for (const char* name :
+       {"sketch_ed21.png", "sketch_ed21_1.png", "sketch_ed21_2.png", "sketch_ed21_3.png"}) {
     PriorMapConfig config;
     config.load.scale_guess_m_per_px = 0.12;
     config.guidepoints.mapping_range_m = 5.0;
     try {
-      const LoadedSketch s = loadSketch(efs::testing::sharedDataPath(std::string("ed21/") + name), config.load);
+      const LoadedSketch s =
+          loadSketch(efs::testing::sharedDataPath(std::string("ed21/") + name), config.load);
       rows.push_back(measure(std::string("ed21 ") + name, s, config));
     } catch (const std::exception& e) {
       std::fprintf(stderr, "skipping %s: %s\n", name, e.what());
@@ -103,14 +106,17 @@ int main() {
     rows.push_back(measure("SubT-scale 2000x330 m", s, config));
   }
 
-  std::printf("\nprior_map_bench: offline pre-processing, one core (target SubT-scale: < 5 s, < 1 GB)\n\n");
-  std::printf("| sketch | size | time [s] | peak mem [MB] | area [m^2] | comps | skeleton [m] | guidepoints | PRM nodes | PRM edges |\n");
+  std::printf(
+      "\nprior_map_bench: offline pre-processing, one core (target SubT-scale: < 5 s, < 1 GB)\n\n");
+  std::printf(
+      "| sketch | size | time [s] | peak mem [MB] | area [m^2] | comps | skeleton [m] | "
+      "guidepoints | PRM nodes | PRM edges |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows) {
     std::printf("| %s | %s | %.3f | %.0f | %.0f | %d | %.0f | %d | %d | %d |\n", r.name.c_str(),
-                r.size.c_str(), r.seconds, r.peak_mb, r.summary.region_area_m2, r.summary.components,
-                r.summary.skeleton_length_m, r.summary.guidepoints, r.summary.prm_nodes,
-                r.summary.prm_edges);
+                r.size.c_str(), r.seconds, r.peak_mb, r.summary.region_area_m2,
+                r.summary.components, r.summary.skeleton_length_m, r.summary.guidepoints,
+                r.summary.prm_nodes, r.summary.prm_edges);
   }
   return 0;
 }

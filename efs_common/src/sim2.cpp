@@ -7,8 +7,8 @@ namespace efs {
 
 std::string Sim2::toString() const {
   std::ostringstream os;
-  os << "Sim2{yaw_rad=" << yaw_rad << ", scale=" << scale << ", t_m=(" << t_m.x() << ", "
-     << t_m.y() << ")" << (reflected ? ", reflected" : "") << "}";
+  os << "Sim2{yaw_rad=" << yaw_rad << ", scale=" << scale << ", t_m=(" << t_m.x() << ", " << t_m.y()
+     << ")" << (reflected ? ", reflected" : "") << "}";
   return os.str();
 }
 

@@ -53,7 +53,8 @@ void relaxSkeletonDistance(const cv::Mat1b& skeleton, const std::vector<cv::Poin
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
         const int nx = x + dx, ny = y + dy;
-        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= skeleton.cols || ny >= skeleton.rows) continue;
+        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= skeleton.cols || ny >= skeleton.rows)
+          continue;
         if (!skeleton(ny, nx)) continue;
         const float nd = d + ((dx != 0 && dy != 0) ? static_cast<float>(M_SQRT2) : 1.0f);
         if (nd < (*dist)(ny, nx)) {
@@ -87,7 +88,8 @@ void coverSkeletonGaps(const cv::Mat1b& skeleton, const TraversableRegion& regio
     if (at.x < 0) break;
     const int comp = region.components(at.y, at.x);
     bool too_close = comp <= 0;
-    for (const auto& q : *out_px) too_close = too_close || std::hypot(q.x - at.x, q.y - at.y) < min_separation_px;
+    for (const auto& q : *out_px)
+      too_close = too_close || std::hypot(q.x - at.x, q.y - at.y) < min_separation_px;
     if (!too_close) {
       Guidepoint g;
       g.id = static_cast<uint32_t>(out->size());
@@ -105,8 +107,7 @@ void coverSkeletonGaps(const cv::Mat1b& skeleton, const TraversableRegion& regio
 }  // namespace
 
 std::vector<Guidepoint> sampleGuidepoints(const SkeletonGraph& skeleton,
-                                          const TraversableRegion& region,
-                                          const SketchFrame& frame,
+                                          const TraversableRegion& region, const SketchFrame& frame,
                                           const GuidepointConfig& config) {
   config.validate();
   const double interval_px = config.intervalM() / frame.m_per_px;
@@ -141,7 +142,7 @@ std::vector<Guidepoint> sampleGuidepoints(const SkeletonGraph& skeleton,
     const SkeletonBranch& b = skeleton.branches[bi];
     const int da = skeleton.nodes[b.node_a].degree, db = skeleton.nodes[b.node_b].degree;
     const bool loop = b.node_a == b.node_b;
-    const bool isolated = da <= 1 && db <= 1;       // the whole skeleton of a region
+    const bool isolated = da <= 1 && db <= 1;  // the whole skeleton of a region
     const bool dead_end = !isolated && (da == 1 || db == 1);
     double min_len = 0.0;
     if (dead_end) min_len = config.min_dead_end_factor * range_px;
@@ -167,7 +168,8 @@ std::vector<Guidepoint> sampleGuidepoints(const SkeletonGraph& skeleton,
 
   // Independent regions whose skeleton gave nothing get one guidepoint at their widest point.
   for (int comp = 1; comp <= region.numComponents(); ++comp) {
-    const bool has = std::any_of(out.begin(), out.end(), [&](const Guidepoint& g) { return g.component == comp; });
+    const bool has = std::any_of(out.begin(), out.end(),
+                                 [&](const Guidepoint& g) { return g.component == comp; });
     if (has) continue;
     cv::Mat1b m = (region.components == comp);
     cv::Mat1f dist;

@@ -287,7 +287,8 @@ PriorBundle loadPriorBundle(const std::string& path) {
       e.a = r.get<int32_t>();
       e.b = r.get<int32_t>();
       e.length_m = r.get<double>();
-      if (e.a < 0 || e.b < 0 || static_cast<uint64_t>(e.a) >= nn || static_cast<uint64_t>(e.b) >= nn) {
+      if (e.a < 0 || e.b < 0 || static_cast<uint64_t>(e.a) >= nn ||
+          static_cast<uint64_t>(e.b) >= nn) {
         throw PriorMapError(path + " section PRM_: edge refers to a node that does not exist");
       }
     }
@@ -329,7 +330,8 @@ bool operator==(const PriorBundle& a, const PriorBundle& b) {
   if (a.guidepoints.size() != b.guidepoints.size()) return false;
   for (size_t i = 0; i < a.guidepoints.size(); ++i) {
     const auto &g = a.guidepoints[i], &h = b.guidepoints[i];
-    if (g.id != h.id || g.position_m != h.position_m || g.component != h.component || g.branch != h.branch) {
+    if (g.id != h.id || g.position_m != h.position_m || g.component != h.component ||
+        g.branch != h.branch) {
       return false;
     }
   }

@@ -56,7 +56,8 @@ PriorBundle buildPriorBundle(const LoadedSketch& sketch, const PriorMapConfig& c
 
   const TraversableRegion region = extractTraversable(sketch, config.traversable);
   b.traversable = region.mask;
-  const SkeletonGraph skeleton = extractSkeleton(region.mask, sketch.frame.m_per_px, config.skeleton);
+  const SkeletonGraph skeleton =
+      extractSkeleton(region.mask, sketch.frame.m_per_px, config.skeleton);
   b.skeleton = skeleton.mask;
   b.guidepoints = sampleGuidepoints(skeleton, region, sketch.frame, config.guidepoints);
 
@@ -75,7 +76,8 @@ PriorMapSummary summarize(const PriorBundle& b) {
   const double px_area = b.frame.m_per_px * b.frame.m_per_px;
   s.region_area_m2 = cv::countNonZero(b.traversable) * px_area;
   cv::Mat1i labels;
-  s.components = b.traversable.empty() ? 0 : cv::connectedComponents(b.traversable, labels, 8, CV_32S) - 1;
+  s.components =
+      b.traversable.empty() ? 0 : cv::connectedComponents(b.traversable, labels, 8, CV_32S) - 1;
   const SkeletonGraph g = buildSkeletonGraph(b.skeleton);
   s.skeleton_length_m = g.totalLengthPx() * b.frame.m_per_px;
   s.skeleton_branches = static_cast<int>(g.branches.size());
@@ -83,7 +85,8 @@ PriorMapSummary summarize(const PriorBundle& b) {
   s.prm_nodes = static_cast<int>(b.prm.nodes_m.size());
   s.prm_edges = static_cast<int>(b.prm.edges.size());
   for (int i = 0; i < b.distances.size(); ++i) {
-    for (int j = i + 1; j < b.distances.size(); ++j) s.unreachable_pairs += !b.distances.reachable(i, j);
+    for (int j = i + 1; j < b.distances.size(); ++j)
+      s.unreachable_pairs += !b.distances.reachable(i, j);
   }
   return s;
 }
@@ -91,7 +94,8 @@ PriorMapSummary summarize(const PriorBundle& b) {
 cv::Mat renderOverlay(const PriorBundle& b) {
   const int longest = std::max(b.frame.width_px, b.frame.height_px);
   const double zoom = longest < 1000 ? std::ceil(1000.0 / longest) : 1.0;
-  const cv::Size size(static_cast<int>(b.frame.width_px * zoom), static_cast<int>(b.frame.height_px * zoom));
+  const cv::Size size(static_cast<int>(b.frame.width_px * zoom),
+                      static_cast<int>(b.frame.height_px * zoom));
   cv::Mat3b img(size, cv::Vec3b(255, 255, 255));
   cv::Mat1b trav, wall, skel;
   cv::resize(b.traversable, trav, size, 0, 0, cv::INTER_NEAREST);
@@ -103,21 +107,23 @@ cv::Mat renderOverlay(const PriorBundle& b) {
     return cv::Point(static_cast<int>(px.x()), static_cast<int>(px.y()));
   };
   for (const auto& e : b.prm.edges) {
-    cv::line(img, toPx(b.prm.nodes_m[e.a]), toPx(b.prm.nodes_m[e.b]), cv::Scalar(230, 190, 150), 1, cv::LINE_AA);
+    cv::line(img, toPx(b.prm.nodes_m[e.a]), toPx(b.prm.nodes_m[e.b]), cv::Scalar(230, 190, 150), 1,
+             cv::LINE_AA);
   }
   std::vector<cv::Point> sk;
   if (!b.skeleton.empty()) cv::findNonZero(b.skeleton, sk);
   for (const auto& p : sk) {
     const cv::Point c(static_cast<int>((p.x + 0.5) * zoom), static_cast<int>((p.y + 0.5) * zoom));
-    cv::circle(img, c, std::max(1, static_cast<int>(zoom / 2)), cv::Scalar(40, 40, 220), cv::FILLED);
+    cv::circle(img, c, std::max(1, static_cast<int>(zoom / 2)), cv::Scalar(40, 40, 220),
+               cv::FILLED);
   }
   const int r = std::max(5, static_cast<int>(3 * zoom));
   for (const auto& g : b.guidepoints) {
     const cv::Point c = toPx(g.position_m);
     cv::circle(img, c, r, cv::Scalar(0, 140, 255), cv::FILLED, cv::LINE_AA);
     cv::circle(img, c, r, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-    cv::putText(img, std::to_string(g.id), c + cv::Point(r + 2, -r), cv::FONT_HERSHEY_SIMPLEX,
-                0.45, cv::Scalar(120, 0, 0), 1, cv::LINE_AA);
+    cv::putText(img, std::to_string(g.id), c + cv::Point(r + 2, -r), cv::FONT_HERSHEY_SIMPLEX, 0.45,
+                cv::Scalar(120, 0, 0), 1, cv::LINE_AA);
   }
   return img;
 }

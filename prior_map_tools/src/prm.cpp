@@ -51,8 +51,9 @@ Prm buildPrm(const cv::Mat1b& region, const SketchFrame& frame, const PrmConfig&
   std::vector<cv::Point> free_px;
   cv::findNonZero(region, free_px);
   const double area_m2 = free_px.size() * frame.m_per_px * frame.m_per_px;
-  const int wanted = std::clamp(static_cast<int>(area_m2 / (config.node_spacing_m * config.node_spacing_m)), 0,
-                                std::max(0, config.max_nodes - static_cast<int>(seed_nodes_m.size())));
+  const int wanted =
+      std::clamp(static_cast<int>(area_m2 / (config.node_spacing_m * config.node_spacing_m)), 0,
+                 std::max(0, config.max_nodes - static_cast<int>(seed_nodes_m.size())));
 
   for (const auto& s : seed_nodes_m) prm.nodes_m.push_back(s);
   std::mt19937_64 rng(config.seed);
@@ -63,7 +64,8 @@ Prm buildPrm(const cv::Mat1b& region, const SketchFrame& frame, const PrmConfig&
       const cv::Point& p = free_px[pick(rng)];
       // Uniform within the pixel, so the node set is uniform over the region's area.
       const Eigen::Vector2d c = frame.pixelCenter(p.x, p.y);
-      prm.nodes_m.push_back(c + frame.m_per_px * Eigen::Vector2d(jitter(rng) - 0.5, jitter(rng) - 0.5));
+      prm.nodes_m.push_back(c +
+                            frame.m_per_px * Eigen::Vector2d(jitter(rng) - 0.5, jitter(rng) - 0.5));
     }
   }
   if (prm.nodes_m.size() < 2) return prm;
@@ -84,7 +86,8 @@ Prm buildPrm(const cv::Mat1b& region, const SketchFrame& frame, const PrmConfig&
   return prm;
 }
 
-DistanceMatrix computeGuidepointDistances(const Prm& prm, const std::vector<Guidepoint>& guidepoints,
+DistanceMatrix computeGuidepointDistances(const Prm& prm,
+                                          const std::vector<Guidepoint>& guidepoints,
                                           const cv::Mat1b& region, const SketchFrame& frame) {
   const int n = static_cast<int>(guidepoints.size());
   DistanceMatrix dm(n);
@@ -98,7 +101,8 @@ DistanceMatrix computeGuidepointDistances(const Prm& prm, const std::vector<Guid
   std::vector<std::vector<std::pair<int, double>>> attach(n);
   for (int g = 0; g < n; ++g) {
     for (const auto& [j, d2] : tree.knn(guidepoints[g].position_m, kAttach)) {
-      if (d2 == 0.0 || segmentTraversable(region, frame, guidepoints[g].position_m, prm.nodes_m[j])) {
+      if (d2 == 0.0 ||
+          segmentTraversable(region, frame, guidepoints[g].position_m, prm.nodes_m[j])) {
         attach[g].emplace_back(static_cast<int>(j), std::sqrt(d2));
       }
     }

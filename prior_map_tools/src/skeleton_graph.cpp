@@ -174,7 +174,8 @@ SkeletonGraph extractSkeleton(const cv::Mat1b& region, double m_per_px,
   if (roi.area() > 0) {
     // Thinning only inside the region's bounding box (plus a margin): much faster on sketches
     // that are mostly blank paper.
-    const cv::Rect padded = (roi + cv::Size(4, 4) - cv::Point(2, 2)) & cv::Rect(0, 0, region.cols, region.rows);
+    const cv::Rect padded =
+        (roi + cv::Size(4, 4) - cv::Point(2, 2)) & cv::Rect(0, 0, region.cols, region.rows);
     cv::Mat1b thin;
     cv::ximgproc::thinning(region(padded), thin, cv::ximgproc::THINNING_ZHANGSUEN);
     thin.copyTo(skeleton(padded));

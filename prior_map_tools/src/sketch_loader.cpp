@@ -104,7 +104,8 @@ cv::Mat1b toLuminance(const cv::Mat& image) {
     cv::Mat tmp;
     double lo = 0, hi = 0;
     cv::minMaxLoc(image.reshape(1), &lo, &hi);
-    image.convertTo(img8, CV_8U, hi > lo ? 255.0 / (hi - lo) : 1.0, hi > lo ? -lo * 255.0 / (hi - lo) : 0.0);
+    image.convertTo(img8, CV_8U, hi > lo ? 255.0 / (hi - lo) : 1.0,
+                    hi > lo ? -lo * 255.0 / (hi - lo) : 0.0);
   }
   cv::Mat1b grey;
   switch (img8.channels()) {
@@ -227,7 +228,8 @@ cv::Mat readImageChecked(const std::string& path, const SketchLoadConfig& config
   if (fs::file_size(path, ec) == 0) fail(path, "empty file (zero bytes)");
   long w = 0, h = 0;
   if (probeImageSize(path, &w, &h)) {
-    if (w <= 0 || h <= 0) fail(path, "zero-size image (" + std::to_string(w) + " x " + std::to_string(h) + ")");
+    if (w <= 0 || h <= 0)
+      fail(path, "zero-size image (" + std::to_string(w) + " x " + std::to_string(h) + ")");
     if (w * h > config.max_image_pixels) {
       fail(path, "image of " + std::to_string(w) + " x " + std::to_string(h) +
                      " pixels exceeds the limit of " + std::to_string(config.max_image_pixels) +
@@ -311,8 +313,8 @@ LoadedSketch loadSketch(const std::string& path, const SketchLoadConfig& config)
     grid_config.occupied_thresh = y.occupied_thresh;
     grid_config.free_thresh = y.free_thresh;
     const cv::Mat image = readImageChecked(image_path.string(), grid_config);
-    LoadedSketch out = classify(toLuminance(image), SketchKind::kOccupancyGrid, grid_config,
-                                y.negate, path);
+    LoadedSketch out =
+        classify(toLuminance(image), SketchKind::kOccupancyGrid, grid_config, y.negate, path);
     out.frame.m_per_px = y.resolution;
     out.frame.origin_m = y.origin;
     return out;

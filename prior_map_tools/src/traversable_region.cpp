@@ -75,7 +75,8 @@ TraversableRegion extractTraversable(const LoadedSketch& sketch, const Traversab
     // area is at least half the largest, and go on only while the area still jumps (a second
     // part of the building with its own gap).
     // The page is padded so that closing never seals against the image border.
-    const int max_radius = std::max(0, static_cast<int>(std::ceil(0.5 * config.max_outer_gap_m / m_per_px)));
+    const int max_radius =
+        std::max(0, static_cast<int>(std::ceil(0.5 * config.max_outer_gap_m / m_per_px)));
     const int pad = max_radius + 2;
     cv::Mat1b padded_walls;
     cv::copyMakeBorder(walls, padded_walls, pad, pad, pad, pad, cv::BORDER_CONSTANT, cv::Scalar(0));
@@ -83,7 +84,8 @@ TraversableRegion extractTraversable(const LoadedSketch& sketch, const Traversab
     cv::Mat1f dist_to_wall;
     cv::distanceTransform(~padded_walls, dist_to_wall, cv::DIST_L2, cv::DIST_MASK_PRECISE);
     std::vector<int> radii{0};
-    for (double r = 1.0; r < max_radius; r = std::max(r + 1.0, r * 1.35)) radii.push_back(static_cast<int>(r));
+    for (double r = 1.0; r < max_radius; r = std::max(r + 1.0, r * 1.35))
+      radii.push_back(static_cast<int>(r));
     if (max_radius > 0) radii.push_back(max_radius);
     std::vector<double> area(radii.size());
     std::vector<cv::Mat1b> footprints(radii.size());
@@ -131,7 +133,8 @@ TraversableRegion extractTraversable(const LoadedSketch& sketch, const Traversab
        << " m/px leaves no free component of at least " << config.min_region_area_m2 << " m^2";
     throw PriorMapError(os.str());
   }
-  std::sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::sort(kept.begin(), kept.end(),
+            [](const auto& a, const auto& b) { return a.first > b.first; });
   std::vector<int> relabel(n, 0);
   for (size_t i = 0; i < kept.size(); ++i) {
     relabel[kept[i].second] = static_cast<int>(i) + 1;

@@ -14,7 +14,9 @@
 namespace efs::prior_map {
 namespace {
 
-std::string tmpPath(const std::string& name) { return efs::testing::testOutputDir() + "/pmt_" + name; }
+std::string tmpPath(const std::string& name) {
+  return efs::testing::testOutputDir() + "/pmt_" + name;
+}
 
 PriorBundle sampleBundle() {
   SketchLoadConfig lc;
@@ -30,7 +32,8 @@ std::string readAll(const std::string& p) {
 }
 
 void writeAll(const std::string& p, const std::string& data) {
-  std::ofstream(p, std::ios::binary | std::ios::trunc).write(data.data(), static_cast<std::streamsize>(data.size()));
+  std::ofstream(p, std::ios::binary | std::ios::trunc)
+      .write(data.data(), static_cast<std::streamsize>(data.size()));
 }
 
 void expectLoadError(const std::string& path, const std::string& needle) {

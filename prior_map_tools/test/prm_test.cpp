@@ -105,19 +105,21 @@ TEST(Prm, SamplingIsDeterministicPerSeed) {
   const LoadedSketch s = sketchFromImage(test::drawBuilding(), lc, "building");
   PriorMapConfig a, b;
   b.prm.seed = 2;
-  const PriorBundle x = buildPriorBundle(s, a), y = buildPriorBundle(s, a), z = buildPriorBundle(s, b);
+  const PriorBundle x = buildPriorBundle(s, a), y = buildPriorBundle(s, a),
+                    z = buildPriorBundle(s, b);
   EXPECT_TRUE(x == y);
   EXPECT_FALSE(x.prm.nodes_m == z.prm.nodes_m);
 }
 
 TEST(Prm, Ed21DistanceMatricesAreMetric) {
-  for (const char* name : {"sketch_ed21.png", "sketch_ed21_1.png", "sketch_ed21_2.png", "sketch_ed21_3.png"}) {
+  for (const char* name :
+       {"sketch_ed21.png", "sketch_ed21_1.png", "sketch_ed21_2.png", "sketch_ed21_3.png"}) {
     SCOPED_TRACE(name);
     PriorMapConfig config;
     config.load.scale_guess_m_per_px = 0.12;
     config.guidepoints.mapping_range_m = 5.0;
-    const PriorBundle b =
-        buildPriorBundle(loadSketch(efs::testing::sharedDataPath(std::string("ed21/") + name), config.load), config);
+    const PriorBundle b = buildPriorBundle(
+        loadSketch(efs::testing::sharedDataPath(std::string("ed21/") + name), config.load), config);
     EXPECT_GE(b.guidepoints.size(), 20u);
     expectMetric(b);
     // Guidepoints of the main component reach each other.

@@ -107,8 +107,8 @@ TEST(Guidepoints, EveryArmOfAJunctionGetsOneAndTheJunctionNone) {
 
 TEST(Guidepoints, IndependentRegionGetsOne) {
   cv::Mat1b img(200, 300, uint8_t(255));
-  cv::rectangle(img, cv::Rect(10, 10, 120, 120), cv::Scalar(0), 2);   // room A
-  cv::rectangle(img, cv::Rect(170, 10, 40, 40), cv::Scalar(0), 2);    // closet B, no door
+  cv::rectangle(img, cv::Rect(10, 10, 120, 120), cv::Scalar(0), 2);  // room A
+  cv::rectangle(img, cv::Rect(170, 10, 40, 40), cv::Scalar(0), 2);   // closet B, no door
   const Pipeline p = run(img, 0.1);
   ASSERT_EQ(p.region.numComponents(), 2);
   GuidepointConfig gc;
@@ -131,9 +131,9 @@ TEST(Guidepoints, Ed21RoomsAndCorridorsAreGuided) {
   // Places a person expects a guidepoint in (pixel boxes read off the drawing): the east annex,
   // the large north-east hall, the south-west room, the row of north-west offices, the southern
   // row of rooms off the main corridor.
-  const std::vector<cv::Rect> expected = {{425, 290, 50, 35}, {252, 50, 100, 65}, {78, 400, 78, 35},
-                                          {115, 88, 35, 90},  {150, 88, 35, 90},  {236, 315, 40, 80},
-                                          {316, 315, 64, 80}};
+  const std::vector<cv::Rect> expected = {
+      {425, 290, 50, 35}, {252, 50, 100, 65}, {78, 400, 78, 35}, {115, 88, 35, 90},
+      {150, 88, 35, 90},  {236, 315, 40, 80}, {316, 315, 64, 80}};
   for (const auto& box : expected) {
     bool found = false;
     for (const auto& g : gps) {

@@ -16,9 +16,12 @@
 namespace efs::prior_map {
 namespace {
 
-std::string tmpPath(const std::string& name) { return efs::testing::testOutputDir() + "/pmt_" + name; }
+std::string tmpPath(const std::string& name) {
+  return efs::testing::testOutputDir() + "/pmt_" + name;
+}
 
-void expectError(const std::string& path, const SketchLoadConfig& config, const std::string& needle) {
+void expectError(const std::string& path, const SketchLoadConfig& config,
+                 const std::string& needle) {
   try {
     loadSketch(path, config);
     FAIL() << "expected PriorMapError containing '" << needle << "'";
@@ -46,8 +49,9 @@ TEST(SketchLoader, EmptyFile) {
 TEST(SketchLoader, ZeroSizePngHeader) {
   // A PNG signature and an IHDR that claims 0 x 0 pixels.
   const std::string p = tmpPath("zero.png");
-  const unsigned char bytes[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H',
-                                 'D', 'R', 0, 0, 0, 0, 0, 0, 0, 0, 8, 0, 0, 0, 0, 0, 0, 0, 0};
+  const unsigned char bytes[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0,
+                                 13,   'I', 'H', 'D', 'R',  0,    0,    0,    0, 0, 0,
+                                 0,    0,   8,   0,   0,    0,    0,    0,    0, 0, 0};
   std::ofstream(p, std::ios::binary).write(reinterpret_cast<const char*>(bytes), sizeof(bytes));
   expectError(p, {}, "zero-size image");
 }
@@ -106,8 +110,8 @@ TEST(SketchLoader, ColourAndTransparentImagesGiveTheSameWalls) {
 }
 
 TEST(SketchLoader, MapServerYamlTakesResolutionOriginAndUnknown) {
-  cv::Mat1b grid(40, 60, uint8_t(205));                    // unknown
-  grid(cv::Rect(10, 10, 40, 20)).setTo(254);                // free
+  cv::Mat1b grid(40, 60, uint8_t(205));                             // unknown
+  grid(cv::Rect(10, 10, 40, 20)).setTo(254);                        // free
   cv::rectangle(grid, cv::Rect(10, 10, 40, 20), cv::Scalar(0), 1);  // occupied border
   const std::string pgm = tmpPath("grid.pgm"), yaml = tmpPath("grid.yaml");
   cv::imwrite(pgm, grid);
@@ -141,8 +145,10 @@ TEST(SketchLoader, AutoKindRecognisesOccupancyGridImages) {
 }
 
 TEST(SketchLoader, RealEd21SketchesLoadAsDrawings) {
-  for (const char* name : {"sketch_ed21.png", "sketch_ed21_1.png", "sketch_ed21_2.png", "sketch_ed21_3.png"}) {
-    const LoadedSketch s = loadSketch(efs::testing::sharedDataPath(std::string("ed21/") + name), {});
+  for (const char* name :
+       {"sketch_ed21.png", "sketch_ed21_1.png", "sketch_ed21_2.png", "sketch_ed21_3.png"}) {
+    const LoadedSketch s =
+        loadSketch(efs::testing::sharedDataPath(std::string("ed21/") + name), {});
     EXPECT_EQ(s.kind, SketchKind::kLineDrawing) << name;
     EXPECT_GT(cv::countNonZero(s.wall_mask), 1000) << name;
   }

@@ -16,7 +16,8 @@ LoadedSketch building(double m_per_px) {
   return sketchFromImage(test::drawBuilding(), config, "building");
 }
 
-void expectThrowsWith(const LoadedSketch& s, const TraversableConfig& c, const std::string& needle) {
+void expectThrowsWith(const LoadedSketch& s, const TraversableConfig& c,
+                      const std::string& needle) {
   try {
     extractTraversable(s, c);
     FAIL() << "expected PriorMapError with '" << needle << "'";
@@ -58,12 +59,15 @@ TEST(TraversableRegion, RobotClearanceKeepsAwayFromWalls) {
 
 TEST(TraversableRegion, AllBlackAllWhiteAndTooNarrowAreClearErrors) {
   SketchLoadConfig lc;
-  expectThrowsWith(sketchFromImage(cv::Mat1b(50, 50, uint8_t(0)), lc, "black.png"), {}, "all black");
-  expectThrowsWith(sketchFromImage(cv::Mat1b(50, 50, uint8_t(255)), lc, "white.png"), {}, "all white");
+  expectThrowsWith(sketchFromImage(cv::Mat1b(50, 50, uint8_t(0)), lc, "black.png"), {},
+                   "all black");
+  expectThrowsWith(sketchFromImage(cv::Mat1b(50, 50, uint8_t(255)), lc, "white.png"), {},
+                   "all white");
   // A closed 4-px-wide corridor: free inside, but too narrow for a 0.5 m robot at 0.1 m/px.
   cv::Mat1b narrow(60, 200, uint8_t(255));
   cv::rectangle(narrow, cv::Rect(10, 20, 180, 6), cv::Scalar(0), 1);
-  expectThrowsWith(sketchFromImage(narrow, lc, "narrow.png"), {0.5, 4.0, 0.1}, "large enough for the robot");
+  expectThrowsWith(sketchFromImage(narrow, lc, "narrow.png"), {0.5, 4.0, 0.1},
+                   "large enough for the robot");
   // Open lines with nothing enclosed.
   cv::Mat1b lines(100, 100, uint8_t(255));
   cv::line(lines, {10, 10}, {90, 10}, cv::Scalar(0), 1);
@@ -75,18 +79,21 @@ TEST(TraversableRegion, OccupancyGridUnknownIsNotTraversable) {
   grid(cv::Rect(10, 10, 40, 20)).setTo(254);
   SketchLoadConfig lc;
   lc.scale_guess_m_per_px = 0.1;
-  const TraversableRegion r = extractTraversable(sketchFromImage(grid, lc, "grid"), {0.1, 4.0, 0.5});
+  const TraversableRegion r =
+      extractTraversable(sketchFromImage(grid, lc, "grid"), {0.1, 4.0, 0.5});
   EXPECT_EQ(r.mask(5, 5), 0);
   EXPECT_EQ(r.mask(20, 30), 255);
   EXPECT_EQ(cv::countNonZero(r.mask & (grid == 205)), 0);
 }
 
 TEST(TraversableRegion, Ed21SketchesGiveTheBuildingInteriorOnly) {
-  for (const char* name : {"sketch_ed21.png", "sketch_ed21_1.png", "sketch_ed21_2.png", "sketch_ed21_3.png"}) {
+  for (const char* name :
+       {"sketch_ed21.png", "sketch_ed21_1.png", "sketch_ed21_2.png", "sketch_ed21_3.png"}) {
     SCOPED_TRACE(name);
     SketchLoadConfig lc;
     lc.scale_guess_m_per_px = 0.12;
-    const LoadedSketch s = loadSketch(efs::testing::sharedDataPath(std::string("ed21/") + name), lc);
+    const LoadedSketch s =
+        loadSketch(efs::testing::sharedDataPath(std::string("ed21/") + name), lc);
     const TraversableRegion r = extractTraversable(s, {});
     ASSERT_GE(r.numComponents(), 1);
     // The building's rooms and corridors form one connected region: closets drawn without a door

@@ -14,7 +14,8 @@
 
 namespace {
 
-constexpr const char* kUsage = R"(usage: prior_map_build --sketch FILE --scale-guess M_PER_PX --mapping-range M --out FILE.prior [options]
+constexpr const char* kUsage =
+    R"(usage: prior_map_build --sketch FILE --scale-guess M_PER_PX --mapping-range M --out FILE.prior [options]
 
 Builds the prior bundle (traversable region, skeleton, guidepoints, PRM, distance matrix) of a
 sketch: a drawing (PNG/JPG/PGM, grey, colour or alpha) or a map_server YAML occupancy grid.
@@ -64,11 +65,16 @@ int main(int argc, char** argv) {
     } else {
       throw efs::CliError("option --kind must be auto, drawing or grid, got '" + kind + "'");
     }
-    config.traversable.robot_radius_m = args.number("robot-radius", config.traversable.robot_radius_m);
-    config.traversable.max_outer_gap_m = args.number("max-outer-gap", config.traversable.max_outer_gap_m);
-    config.traversable.min_region_area_m2 = args.number("min-region-area", config.traversable.min_region_area_m2);
-    config.skeleton.spur_prune_length_m = args.number("spur-length", config.skeleton.spur_prune_length_m);
-    config.guidepoints.interval_factor = args.number("interval-factor", config.guidepoints.interval_factor);
+    config.traversable.robot_radius_m =
+        args.number("robot-radius", config.traversable.robot_radius_m);
+    config.traversable.max_outer_gap_m =
+        args.number("max-outer-gap", config.traversable.max_outer_gap_m);
+    config.traversable.min_region_area_m2 =
+        args.number("min-region-area", config.traversable.min_region_area_m2);
+    config.skeleton.spur_prune_length_m =
+        args.number("spur-length", config.skeleton.spur_prune_length_m);
+    config.guidepoints.interval_factor =
+        args.number("interval-factor", config.guidepoints.interval_factor);
     config.prm.node_spacing_m = args.number("prm-spacing", config.prm.node_spacing_m);
     config.prm.k_neighbours = static_cast<int>(args.integer("prm-k", config.prm.k_neighbours));
     config.prm.seed = static_cast<uint64_t>(args.integer("seed", 1));
@@ -91,9 +97,12 @@ int main(int argc, char** argv) {
     std::printf("sketch              %s (%s, %d x %d px, %.4g m/px)\n", sketch_path.c_str(),
                 toString(sketch.kind), sketch.frame.width_px, sketch.frame.height_px,
                 sketch.frame.m_per_px);
-    std::printf("region area         %.1f m^2 in %d component(s)\n", s.region_area_m2, s.components);
-    std::printf("skeleton            %.1f m in %d branches\n", s.skeleton_length_m, s.skeleton_branches);
-    std::printf("guidepoints         %d (interval %.1f m)\n", s.guidepoints, config.guidepoints.intervalM());
+    std::printf("region area         %.1f m^2 in %d component(s)\n", s.region_area_m2,
+                s.components);
+    std::printf("skeleton            %.1f m in %d branches\n", s.skeleton_length_m,
+                s.skeleton_branches);
+    std::printf("guidepoints         %d (interval %.1f m)\n", s.guidepoints,
+                config.guidepoints.intervalM());
     std::printf("prm                 %d nodes, %d edges\n", s.prm_nodes, s.prm_edges);
     std::printf("unreachable pairs   %d\n", s.unreachable_pairs);
     std::printf("elapsed             %.3f s (peak memory %.1f MB)\n", build_s,

@@ -25,16 +25,19 @@ TEST(PriorMapServerBadInput, MissingSketch) {
   expectCleanFailure("_sketch_path:=/nonexistent/sketch.png", "no such file");
 }
 TEST(PriorMapServerBadInput, NegativeScaleGuess) {
-  expectCleanFailure("_sketch_path:=" + kSketch + " _scale_guess_m_per_px:=-0.5", "scale_guess_m_per_px");
+  expectCleanFailure("_sketch_path:=" + kSketch + " _scale_guess_m_per_px:=-0.5",
+                     "scale_guess_m_per_px");
 }
 TEST(PriorMapServerBadInput, MisspeltKey) {
-  expectCleanFailure("_sketch_path:=" + kSketch + " _scale_gues_m_per_px:=0.1", "scale_gues_m_per_px");
+  expectCleanFailure("_sketch_path:=" + kSketch + " _scale_gues_m_per_px:=0.1",
+                     "scale_gues_m_per_px");
 }
 TEST(PriorMapServerBadInput, WrongTypeIsNamed) {
   expectCleanFailure("_sketch_path:=" + kSketch + " _prm_k_neighbours:=many", "prm_k_neighbours");
 }
 TEST(PriorMapServerBadInput, NotABundle) {
-  expectCleanFailure("_bundle_path:=" + efs::testing::sharedDataPath("ed21/ed21.world"), "not a prior bundle");
+  expectCleanFailure("_bundle_path:=" + efs::testing::sharedDataPath("ed21/ed21.world"),
+                     "not a prior bundle");
 }
 TEST(PriorMapServerBadInput, NothingToServe) { expectCleanFailure("", "bundle_path"); }
 

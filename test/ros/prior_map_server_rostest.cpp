@@ -42,7 +42,8 @@ TEST(PriorMapServer, PublishesTheLatchedPrior) {
     EXPECT_EQ(map->data[static_cast<size_t>(r) * map->info.width + c], 0);
   }
 
-  const auto markers = waitForMessage<visualization_msgs::MarkerArray>(nh, "prior/guidepoint_markers", 5.0);
+  const auto markers =
+      waitForMessage<visualization_msgs::MarkerArray>(nh, "prior/guidepoint_markers", 5.0);
   ASSERT_TRUE(markers);
   EXPECT_EQ(markers->markers.size(), gps->ids.size() + 1);
   const auto prm = waitForMessage<visualization_msgs::MarkerArray>(nh, "prior/prm_markers", 5.0);

@@ -10,17 +10,18 @@
 
 #include <unistd.h>
 
+#include <sys/wait.h>
 #include <array>
 #include <cstdio>
 #include <string>
-#include <sys/wait.h>
 #include <vector>
 
 namespace efs::rostest {
 
 /// Waits up to `timeout_s` for one message on `topic`; null if none came.
 template <typename M>
-boost::shared_ptr<const M> waitForMessage(ros::NodeHandle& nh, const std::string& topic, double timeout_s) {
+boost::shared_ptr<const M> waitForMessage(ros::NodeHandle& nh, const std::string& topic,
+                                          double timeout_s) {
   return ros::topic::waitForMessage<M>(topic, nh, ros::Duration(timeout_s));
 }
 

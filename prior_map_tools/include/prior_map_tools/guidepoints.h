@@ -39,13 +39,12 @@ struct Guidepoint {
   uint32_t id = 0;
   Eigen::Vector2d position_m = Eigen::Vector2d::Zero();  ///< sketch frame
   static constexpr int kNoBranch = -1;
-  int component = 0;         ///< traversable component label
-  int branch = kNoBranch;    ///< skeleton branch it lies on; kNoBranch for gap fills and seeds
+  int component = 0;       ///< traversable component label
+  int branch = kNoBranch;  ///< skeleton branch it lies on; kNoBranch for gap fills and seeds
 };
 
 std::vector<Guidepoint> sampleGuidepoints(const SkeletonGraph& skeleton,
-                                          const TraversableRegion& region,
-                                          const SketchFrame& frame,
+                                          const TraversableRegion& region, const SketchFrame& frame,
                                           const GuidepointConfig& config);
 
 }  // namespace efs::prior_map

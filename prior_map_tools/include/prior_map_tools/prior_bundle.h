@@ -16,8 +16,8 @@
 
 #include "prior_map_tools/guidepoints.h"
 #include "prior_map_tools/prm.h"
-#include "prior_map_tools/sketch_loader.h"
 #include "prior_map_tools/skeleton_graph.h"
+#include "prior_map_tools/sketch_loader.h"
 #include "prior_map_tools/traversable_region.h"
 
 namespace efs::prior_map {
@@ -28,9 +28,9 @@ struct PriorBundle {
   std::string source_path;  ///< the sketch it was built from (informative)
   SketchKind kind = SketchKind::kLineDrawing;
   SketchFrame frame;
-  cv::Mat1b wall_mask;        ///< the sketch's walls (255)
-  cv::Mat1b traversable;      ///< 255 = traversable
-  cv::Mat1b skeleton;         ///< 255 = skeleton pixel
+  cv::Mat1b wall_mask;    ///< the sketch's walls (255)
+  cv::Mat1b traversable;  ///< 255 = traversable
+  cv::Mat1b skeleton;     ///< 255 = skeleton pixel
   std::vector<Guidepoint> guidepoints;
   Prm prm;
   DistanceMatrix distances;

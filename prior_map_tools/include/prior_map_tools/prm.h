@@ -75,7 +75,8 @@ class DistanceMatrix {
 
 /// Dijkstra from every guidepoint over the PRM. A guidepoint joins the roadmap through the
 /// nearest nodes it sees along a traversable straight segment.
-DistanceMatrix computeGuidepointDistances(const Prm& prm, const std::vector<Guidepoint>& guidepoints,
+DistanceMatrix computeGuidepointDistances(const Prm& prm,
+                                          const std::vector<Guidepoint>& guidepoints,
                                           const cv::Mat1b& region, const SketchFrame& frame);
 
 }  // namespace efs::prior_map

@@ -12,8 +12,8 @@
 namespace efs::prior_map {
 
 enum class SketchKind {
-  kAuto,           ///< YAML -> occupancy grid; image with many mid-grey pixels -> grid; else drawing
-  kLineDrawing,    ///< dark lines are walls; everything else is free paper
+  kAuto,         ///< YAML -> occupancy grid; image with many mid-grey pixels -> grid; else drawing
+  kLineDrawing,  ///< dark lines are walls; everything else is free paper
   kOccupancyGrid,  ///< dark = occupied, light = free, mid grey = unknown (never traversable)
 };
 

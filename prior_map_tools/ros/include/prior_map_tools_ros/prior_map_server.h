@@ -17,7 +17,7 @@ struct PriorMapServerConfig {
   std::string sketch_path;    ///< if set, build from this sketch instead of loading
   bool write_bundle = false;  ///< with sketch_path: also save the built bundle to bundle_path
   std::string frame_id = "sketch";
-  PriorMapConfig builder;     ///< used with sketch_path
+  PriorMapConfig builder;  ///< used with sketch_path
 };
 
 /// Reads the node's private parameters (every key of config/prior_map_server.yaml); throws

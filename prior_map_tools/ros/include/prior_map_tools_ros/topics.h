@@ -5,8 +5,8 @@
 
 namespace efs::prior_map::topics {
 
-constexpr const char* kSketchCloud = "sketch_cloud";              // sensor_msgs/PointCloud2, latched
-constexpr const char* kGuidepoints = "guidepoints";               // Guidepoints, latched
+constexpr const char* kSketchCloud = "sketch_cloud";  // sensor_msgs/PointCloud2, latched
+constexpr const char* kGuidepoints = "guidepoints";   // Guidepoints, latched
 constexpr const char* kGuidepointMarkers = "guidepoint_markers";  // MarkerArray, latched
 constexpr const char* kPrmMarkers = "prm_markers";                // MarkerArray, latched
 constexpr const char* kTraversableMap = "traversable_map";        // nav_msgs/OccupancyGrid, latched
