@@ -68,7 +68,9 @@ CorridorResult CorridorBuilder::build(const std::vector<Eigen::Vector3d>& path,
     const Eigen::Vector3d lo = a.cwiseMin(b).array() - cfg_.box_margin_m;
     const Eigen::Vector3d hi = a.cwiseMax(b).array() + cfg_.box_margin_m;
     obstacles.clear();
-    grid.occupiedCentersInBox(lo, hi, obstacles);
+    // Obstacles just outside the box are still within clearance of its faces: gather them too.
+    grid.occupiedCentersInBox(lo.array() - cfg_.clearance_m, hi.array() + cfg_.clearance_m,
+                              obstacles);
     bool in_collision = false;
     res.polytopes.push_back(inflateSegment(a, b, obstacles, lo.cwiseMax(wlo).cwiseMin(a.cwiseMin(b)),
                                            hi.cwiseMin(whi).cwiseMax(a.cwiseMax(b)),
@@ -91,8 +93,9 @@ CorridorResult CorridorBuilder::build(const std::vector<Eigen::Vector3d>& path,
     const Eigen::Vector3d lo = a.cwiseMin(b).array() - cfg_.box_margin_m;
     const Eigen::Vector3d hi = a.cwiseMax(b).array() + cfg_.box_margin_m;
     local.clear();
+    const Eigen::Vector3d glo = lo.array() - cfg_.clearance_m, ghi = hi.array() + cfg_.clearance_m;
     for (const auto& o : obstacles)
-      if ((o.array() >= lo.array()).all() && (o.array() <= hi.array()).all()) local.push_back(o);
+      if ((o.array() >= glo.array()).all() && (o.array() <= ghi.array()).all()) local.push_back(o);
     bool in_collision = false;
     res.polytopes.push_back(inflateSegment(a, b, local,
                                            lo.cwiseMax(bound_lo).cwiseMin(a.cwiseMin(b)),
@@ -273,7 +276,7 @@ Polytope CorridorBuilder::inflateSegment(const Eigen::Vector3d& sa, const Eigen:
       if (tangent_ok) {
         nrm.normalize();
         seed_max = std::max(nrm.dot(sa), nrm.dot(sb));
-        tangent_ok = seed_max < nrm.dot(o) - 1e-9;
+        tangent_ok = seed_max <= nrm.dot(o) - cfg_.clearance_m;
       }
       if (!tangent_ok) {
         const Eigen::Vector3d c = closestOnSegment(sa, sb, o);

@@ -45,9 +45,9 @@ inline int posMod(int a, int n) {
 
 LocalGrid::LocalGrid(const LocalGridConfig& cfg, const Eigen::Vector3d& c) : cfg_(cfg) {
   cfg_.validate();
-  nx_ = static_cast<int>(std::ceil(cfg_.size_x_m / cfg_.resolution_m));
-  ny_ = static_cast<int>(std::ceil(cfg_.size_y_m / cfg_.resolution_m));
-  nz_ = static_cast<int>(std::ceil(cfg_.size_z_m / cfg_.resolution_m));
+  nx_ = static_cast<int>(std::ceil(cfg_.size_x_m / cfg_.resolution_m - 1e-6));
+  ny_ = static_cast<int>(std::ceil(cfg_.size_y_m / cfg_.resolution_m - 1e-6));
+  nz_ = static_cast<int>(std::ceil(cfg_.size_z_m / cfg_.resolution_m - 1e-6));
   const size_t n = static_cast<size_t>(nx_) * ny_ * nz_;
   logodds_.assign(n, 0.f);
   observed_.assign(n, 0);

@@ -1,0 +1,234 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include <gtest/gtest.h>
+
+#include <queue>
+#include <random>
+#include <unordered_map>
+
+#include "efs_common/config_check.h"
+#include "minco_traj/astar.h"
+#include "minco_traj/local_grid.h"
+
+namespace efs::traj {
+namespace {
+
+LocalGridConfig smallGrid(double inflation = 0.0) {
+  LocalGridConfig c;
+  c.resolution_m = 0.1;
+  c.size_x_m = 3.0;
+  c.size_y_m = 3.0;
+  c.size_z_m = 0.6;
+  c.inflation_radius_m = inflation;
+  return c;
+}
+
+TEST(LocalGrid, RayCastingSeparatesFreeUnknownAndOccupied) {
+  LocalGridConfig cfg = smallGrid(0.2);
+  cfg.size_z_m = 2.0;
+  LocalGrid g(cfg, Eigen::Vector3d(0, 0, 0));
+  const Eigen::Vector3d origin(-1.0, 0.05, 0.05), hit(1.0, 0.05, 0.05);
+  g.insertScan(origin, {hit});
+  EXPECT_EQ(g.state(hit), CellState::kOccupied);
+  EXPECT_EQ(g.state(Eigen::Vector3d(0.0, 0.05, 0.05)), CellState::kFree);
+  EXPECT_EQ(g.state(Eigen::Vector3d(-0.5, 0.05, 0.05)), CellState::kFree);
+  EXPECT_EQ(g.state(Eigen::Vector3d(0.0, 0.55, 0.05)), CellState::kUnknown);
+  EXPECT_EQ(g.state(Eigen::Vector3d(10.0, 0, 0)), CellState::kOutside);
+  // Inflation: cells within 0.2 m of the hit are blocked, farther ones are not.
+  EXPECT_TRUE(g.isInflated(g.key(Eigen::Vector3d(0.85, 0.05, 0.05))));
+  EXPECT_TRUE(g.isInflated(g.key(Eigen::Vector3d(1.05, 0.25, 0.05))));
+  EXPECT_FALSE(g.isInflated(g.key(Eigen::Vector3d(0.65, 0.05, 0.05))));
+  EXPECT_TRUE(g.isBlocked(g.key(Eigen::Vector3d(0.0, 0.55, 0.05)), false));   // unknown
+  EXPECT_FALSE(g.isBlocked(g.key(Eigen::Vector3d(0.0, 0.55, 0.05)), true));
+  EXPECT_EQ(g.occupiedCount(), 1u);
+}
+
+TEST(LocalGrid, RepeatedMissesClearAnObstacleAndItsInflation) {
+  LocalGrid g(smallGrid(0.2), Eigen::Vector3d(0, 0, 0));
+  const Eigen::Vector3d origin(-1.0, 0.05, 0.05), wall(0.5, 0.05, 0.05), far(1.2, 0.05, 0.05);
+  g.insertScan(origin, {wall});
+  ASSERT_EQ(g.state(wall), CellState::kOccupied);
+  for (int i = 0; i < 20; ++i) g.insertScan(origin, {far});  // the obstacle moved away
+  EXPECT_EQ(g.state(wall), CellState::kFree);
+  EXPECT_FALSE(g.isInflated(g.key(Eigen::Vector3d(0.4, 0.05, 0.05))));
+  EXPECT_EQ(g.state(far), CellState::kOccupied);
+}
+
+TEST(LocalGrid, RecenterForgetsOnlyCellsThatLeaveTheWindow) {
+  LocalGrid g(smallGrid(0.1), Eigen::Vector3d(0, 0, 0));
+  const Eigen::Vector3d keep(0.75, 0.05, 0.05), lose(-1.25, 0.05, 0.05);
+  g.setOccupied(keep);
+  g.setOccupied(lose);
+  g.recenter(Eigen::Vector3d(1.0, 0, 0));
+  EXPECT_EQ(g.state(keep), CellState::kOccupied);
+  EXPECT_EQ(g.state(lose), CellState::kOutside);
+  EXPECT_TRUE(g.isInflated(g.key(Eigen::Vector3d(0.85, 0.05, 0.05))));
+  // New cells entering on the far side are unknown even though their ring slots were reused.
+  EXPECT_EQ(g.state(Eigen::Vector3d(1.75, 0.05, 0.05)), CellState::kUnknown);
+  g.recenter(Eigen::Vector3d(0, 0, 0));
+  EXPECT_EQ(g.state(lose), CellState::kUnknown);
+  EXPECT_EQ(g.occupiedCount(), 1u);
+}
+
+TEST(LocalGrid, ConfigValidationNamesKey) {
+  LocalGridConfig c;
+  c.resolution_m = 0.0;
+  EXPECT_THROW(c.validate(), ConfigError);
+  try {
+    c.validate();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("local_grid.resolution_m"), std::string::npos);
+  }
+}
+
+// Reference Dijkstra on the same 26-connected graph.
+double dijkstra(const LocalGrid& g, const VoxelKey& s, const VoxelKey& t) {
+  std::unordered_map<VoxelKey, double, VoxelKeyHash> dist;
+  using QE = std::pair<double, VoxelKey>;
+  auto cmp = [](const QE& a, const QE& b) { return a.first > b.first; };
+  std::priority_queue<QE, std::vector<QE>, decltype(cmp)> pq(cmp);
+  dist[s] = 0;
+  pq.push({0, s});
+  while (!pq.empty()) {
+    auto [d, k] = pq.top();
+    pq.pop();
+    if (d > dist[k]) continue;
+    if (k == t) return d;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          if (!dx && !dy && !dz) continue;
+          const VoxelKey n{k.x + dx, k.y + dy, k.z + dz};
+          if (g.isBlocked(n, true)) continue;
+          const double nd = d + std::sqrt(double(dx * dx + dy * dy + dz * dz));
+          auto it = dist.find(n);
+          if (it == dist.end() || nd < it->second) {
+            dist[n] = nd;
+            pq.push({nd, n});
+          }
+        }
+  }
+  return -1;
+}
+
+TEST(AStar, OptimalOnSmallRandomGrids) {
+  std::mt19937 rng(42);
+  int solved = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    LocalGrid g(smallGrid(0.0), Eigen::Vector3d(0, 0, 0.3));
+    g.setAllFree();
+    std::uniform_real_distribution<double> ux(-1.45, 1.45), uz(0.0, 0.6);
+    for (int i = 0; i < 900; ++i) g.setOccupied({ux(rng), ux(rng), uz(rng)});
+    const Eigen::Vector3d s(-1.35, -1.35, 0.25), t(1.35, 1.35, 0.35);
+    g.setFree(s);
+    g.setFree(t);
+    AStarConfig cfg;
+    cfg.shortcut = false;
+    AStarPlanner astar(cfg);
+    const auto r = astar.plan(g, s, t);
+    const double ref = dijkstra(g, g.key(s), g.key(t));
+    if (ref < 0) {
+      EXPECT_EQ(r.status, AStarStatus::kNoPath);
+      continue;
+    }
+    ASSERT_TRUE(r.ok()) << toString(r.status);
+    ++solved;
+    EXPECT_NEAR(r.grid_path_length_m, ref * 0.1, 1e-9) << "trial " << trial;
+    EXPECT_FALSE(r.goal_adjusted);
+    // The path is 26-connected through free cells.
+    for (size_t i = 1; i + 1 < r.grid_path_world_m.size(); ++i)
+      EXPECT_FALSE(g.isBlocked(g.key(r.grid_path_world_m[i]), true));
+  }
+  EXPECT_GE(solved, 6);
+}
+
+TEST(AStar, ShortcutPathKeepsLineOfSightAndEndpoints) {
+  LocalGrid g(smallGrid(0.1), Eigen::Vector3d(0, 0, 0.3));
+  g.setAllFree();
+  for (double y = -1.0; y <= 1.45; y += 0.05)  // a wall with a gap near y = -1.3
+    for (double z = -0.25; z < 0.9; z += 0.05) g.setOccupied({0.05, y, z});
+  AStarPlanner astar;
+  const Eigen::Vector3d s(-1.0, 1.0, 0.3), t(1.0, 1.0, 0.3);
+  const auto r = astar.plan(g, s, t);
+  ASSERT_TRUE(r.ok()) << toString(r.status);
+  EXPECT_EQ(r.path_world_m.front(), s);
+  EXPECT_EQ(r.path_world_m.back(), t);
+  EXPECT_GE(r.path_world_m.size(), 3u);
+  EXPECT_LT(r.path_world_m.size(), r.grid_path_world_m.size());
+  for (size_t i = 0; i + 1 < r.path_world_m.size(); ++i)
+    EXPECT_TRUE(astar.lineOfSight(g, r.path_world_m[i], r.path_world_m[i + 1]));
+  // It has to go through the gap.
+  double min_y = 1e9;
+  for (const auto& p : r.path_world_m) min_y = std::min(min_y, p.y());
+  EXPECT_LT(min_y, -1.0);
+}
+
+TEST(AStar, GoalInsideObstacleMovesToNearestFreeCellOrIsRefused) {
+  LocalGrid g(smallGrid(0.0), Eigen::Vector3d(0, 0, 0.3));
+  g.setAllFree();
+  // A solid 0.3 m cube around (1, 0, 0.3).
+  for (double x = 0.85; x < 1.15; x += 0.1)
+    for (double y = -0.15; y < 0.15; y += 0.1)
+      for (double z = 0.15; z < 0.45; z += 0.1) g.setOccupied({x, y, z});
+  AStarPlanner astar;
+  auto r = astar.plan(g, {-1, 0, 0.3}, {1.0, 0.0, 0.3});
+  ASSERT_TRUE(r.ok()) << toString(r.status);
+  EXPECT_TRUE(r.goal_adjusted);
+  EXPECT_FALSE(g.isBlocked(g.key(r.path_world_m.back()), true));
+  EXPECT_LT((r.path_world_m.back() - Eigen::Vector3d(1, 0, 0.3)).norm(), 0.25);
+
+  AStarConfig strict;
+  strict.goal_search_radius_m = 0.05;  // no free cell that close: refuse clearly
+  r = AStarPlanner(strict).plan(g, {-1, 0, 0.3}, {1.0, 0.0, 0.3});
+  EXPECT_EQ(r.status, AStarStatus::kGoalBlocked);
+  EXPECT_TRUE(r.path_world_m.empty());
+}
+
+TEST(AStar, GoalOutsideWindowIsClampedOrRefused) {
+  LocalGrid g(smallGrid(0.0), Eigen::Vector3d(0, 0, 0.3));
+  g.setAllFree();
+  AStarPlanner astar;
+  auto r = astar.plan(g, {0, 0, 0.3}, {10, 0, 0.3});
+  ASSERT_TRUE(r.ok());
+  EXPECT_TRUE(r.goal_adjusted);
+  EXPECT_TRUE(g.inWindow(r.path_world_m.back()));
+  EXPECT_GT(r.path_world_m.back().x(), 1.3);
+  AStarConfig c;
+  c.clamp_goal_to_window = false;
+  r = AStarPlanner(c).plan(g, {0, 0, 0.3}, {10, 0, 0.3});
+  EXPECT_EQ(r.status, AStarStatus::kGoalOutside);
+  r = astar.plan(g, {10, 0, 0.3}, {0, 0, 0.3});
+  EXPECT_EQ(r.status, AStarStatus::kStartOutside);
+}
+
+TEST(AStar, StartInCollisionEscapesOrStops) {
+  LocalGrid g(smallGrid(0.2), Eigen::Vector3d(0, 0, 0.3));
+  g.setAllFree();
+  for (double y = -1.45; y < 1.5; y += 0.1)
+    for (double z = -0.25; z < 0.9; z += 0.1) g.setOccupied({0.05, y, z});
+  AStarPlanner astar;
+  // 0.15 m from the wall: inside the 0.2 m inflation, escape to the nearest free cell.
+  const Eigen::Vector3d s(-0.1, 0.0, 0.3);
+  auto r = astar.plan(g, s, {-1.0, 0.5, 0.3});
+  ASSERT_TRUE(r.ok()) << toString(r.status);
+  EXPECT_TRUE(r.start_escaped);
+  EXPECT_EQ(r.path_world_m.front(), s);
+  EXPECT_FALSE(g.isBlocked(g.key(r.path_world_m[1]), true));
+  EXPECT_LE((r.path_world_m[1] - s).norm(), 0.6);
+  // Inside the wall with no escape allowed: stop.
+  AStarConfig c;
+  c.start_escape_radius_m = 0.1;
+  r = AStarPlanner(c).plan(g, {0.05, 0.05, 0.35}, {-1.0, 0.5, 0.3});
+  EXPECT_EQ(r.status, AStarStatus::kStartInCollision);
+}
+
+TEST(AStar, NoPathWhenGoalIsEnclosed) {
+  LocalGrid g(smallGrid(0.0), Eigen::Vector3d(0, 0, 0.3));
+  g.setAllFree();
+  for (double y = -1.45; y < 1.5; y += 0.1)
+    for (double z = -0.25; z < 0.9; z += 0.1) g.setOccupied({0.05, y, z});
+  const auto r = AStarPlanner().plan(g, {-1, 0, 0.3}, {1, 0, 0.3});
+  EXPECT_EQ(r.status, AStarStatus::kNoPath);
+}
+
+}  // namespace
+}  // namespace efs::traj
