@@ -1,0 +1,89 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// Ground-truth coverage: the fraction of the world's observable surface voxels (0.3 m by
+// default, the paper's map resolution) that received at least one LiDAR return within range.
+// The set of observable surface voxels comes from the world itself (a voxel world knows its
+// surface) or from observableSurfaceKeys(), which samples any WorldGeometry by casting dense ray
+// bundles from free-space points. The paper counts a run finished at 95 % coverage.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "efs_common/voxel_key.h"
+#include "marsim_worlds/world_geometry.h"
+
+namespace efs::sim {
+
+using VoxelKeySet = std::unordered_set<VoxelKey, VoxelKeyHash>;
+
+struct CoverageConfig {
+  double voxel_size_m = 0.3;
+  /// Returns farther than this from the sensor do not count (the LiDAR's own max range also
+  /// applies). The paper's coverage counts what was seen within the mapping range.
+  double coverage_range_m = 40.0;
+  double finished_fraction = 0.95;
+
+  void validate() const;  ///< Throws efs::ConfigError naming the key.
+};
+
+/// The voxel a return belongs to: the hit point pushed a millimetre along the ray, so that a hit
+/// exactly on a voxel boundary (an axis-aligned wall) lands in the voxel behind the surface,
+/// the same one for every ray. Ground truth and coverage both use it.
+inline VoxelKey surfaceVoxelKey(const Eigen::Vector3f& hit_world, const Eigen::Vector3f& dir_unit,
+                                double voxel_size_m) {
+  const Eigen::Vector3f p = hit_world + 1e-3f * dir_unit;
+  return toVoxelKey(p.cast<double>(), voxel_size_m);
+}
+
+struct ObservableSurfaceConfig {
+  double voxel_size_m = 0.3;
+  double max_range_m = 40.0;
+  int rays_per_point = 20000;  ///< Fibonacci-sphere bundle cast from each sample point.
+  /// Sample points closer than this to the world (WorldGeometry::collides) are skipped.
+  double clearance_m = 0.3;
+
+  void validate() const;  ///< Throws efs::ConfigError naming the key.
+};
+
+/// Surface voxels seen from any of `sample_points_world` by a full-sphere bundle of rays.
+VoxelKeySet observableSurfaceKeys(const WorldGeometry& world,
+                                  const std::vector<Eigen::Vector3d>& sample_points_world,
+                                  const ObservableSurfaceConfig& config);
+
+/// Free-space sample points on a grid of `spacing_m` inside `box_world` that keep `clearance_m`
+/// from the world (for observableSurfaceKeys).
+std::vector<Eigen::Vector3d> freeSamplePoints(const WorldGeometry& world,
+                                              const Eigen::AlignedBox3d& box_world,
+                                              double spacing_m, double clearance_m);
+
+class Coverage {
+ public:
+  Coverage(const CoverageConfig& config, const VoxelKeySet& ground_truth_surface);
+
+  const CoverageConfig& config() const { return config_; }
+
+  /// Marks the voxels of `surface_world` (noise-free returns; directions `dirs_world` as in
+  /// surfaceVoxelKey) seen from `sensor_origin_world`. Returns the number of newly seen voxels.
+  std::size_t observe(const Eigen::Vector3d& sensor_origin_world,
+                      const std::vector<Eigen::Vector3f>& surface_world,
+                      const std::vector<Eigen::Vector3f>& dirs_world);
+
+  std::size_t totalVoxels() const { return index_.size(); }
+  std::size_t seenVoxels() const { return seen_count_; }
+  /// Seen / total; 0 for an empty ground truth.
+  double fraction() const;
+  bool finished() const { return fraction() >= config_.finished_fraction; }
+  bool isSeen(const VoxelKey& k) const;
+
+ private:
+  CoverageConfig config_;
+  std::unordered_map<VoxelKey, uint32_t, VoxelKeyHash> index_;
+  std::vector<uint8_t> seen_;
+  std::size_t seen_count_ = 0;
+};
+
+}  // namespace efs::sim
