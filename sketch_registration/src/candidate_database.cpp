@@ -124,7 +124,8 @@ Candidate CandidateDatabase::score(size_t i, const GeoContext& observed, const S
   c.c_sketch = locations_[i];
   const GeoContext& d = descriptors_[i];
   if (!d.valid || !observed.valid) return c;
-  const ShiftMatch m = bestColumnShift(d.range_m.data(), tables, try_reversed);
+  const ShiftMatch m =
+      bestColumnShiftCoarseToFine(d, tables, try_reversed, config_.coarse_shift_keep);
   c.s_cos = m.score;
   c.s_fft = fftSimilarity(d, observed);
   c.s_cv = cvSimilarity(d, observed);

@@ -18,6 +18,9 @@ void DescriptorConfig::validate() const {
   requireThat(max_range_m > min_range_m, "max_range_m", "must be > min_range_m");
   requireInRange("point_radius_m", point_radius_m, 0.0, 100.0);
   requireInRange("min_valid_bins", min_valid_bins, 1, num_bins);
+  requireInRange("coarse_shift_factor", coarse_shift_factor, 1, num_bins);
+  requireThat(num_bins % coarse_shift_factor == 0, "coarse_shift_factor", "must divide num_bins");
+  requireInRange("coarse_shift_keep", coarse_shift_keep, 1, num_bins);
 }
 
 HprConfig DescriptorConfig::hprConfig() const {
@@ -50,15 +53,44 @@ void computeFeatures(GeoContext& d, const DescriptorConfig& config) {
   const double var = n > 0 ? std::max(0.0, sum2 / n - mean * mean) : 0.0;
   d.cv = mean > 0.0 ? std::sqrt(var) / mean : 0.0;
   d.valid = nonzero >= config.min_valid_bins && mean > 0.0;
+  d.coarse_range_m.clear();
+  const int f = config.coarse_shift_factor;
+  if (f > 1 && n % f == 0) {
+    // Coarse bin j is centred on fine bin f*j, so a coarse shift c is the fine shift f*c.
+    const int lo = -(f - 1) / 2;
+    d.coarse_range_m.assign(static_cast<size_t>(n / f), 0.0f);
+    for (int j = 0; j < n / f; ++j) {
+      float m = 0.0f;
+      for (int k = 0; k < f; ++k) m = std::max(m, d.range_m[static_cast<size_t>(((f * j + lo + k) % n + n) % n)]);
+      d.coarse_range_m[static_cast<size_t>(j)] = m;
+    }
+  }
   // Low-frequency DFT magnitudes: shift-invariant, so they describe layout without heading. A
   // direct DFT of N_c components costs N_b * N_c, less than an FFT's setup for N_b = 90.
   d.fft_magnitude.assign(static_cast<size_t>(config.num_fft), 0.0f);
+  // Twiddles cached per descriptor length (Phase 1 computes ~20k of these).
+  thread_local std::vector<double> cos_table, sin_table;
+  thread_local int table_n = 0, table_k = 0;
+  if (table_n != n || table_k < config.num_fft) {
+    table_n = n;
+    table_k = config.num_fft;
+    cos_table.resize(static_cast<size_t>(n) * table_k);
+    sin_table.resize(cos_table.size());
+    for (int k = 0; k < table_k; ++k) {
+      for (int i = 0; i < n; ++i) {
+        const double a = 2.0 * M_PI * k * i / n;
+        cos_table[static_cast<size_t>(k) * n + i] = std::cos(a);
+        sin_table[static_cast<size_t>(k) * n + i] = std::sin(a);
+      }
+    }
+  }
   for (int k = 0; k < config.num_fft; ++k) {
     double re = 0.0, im = 0.0;
+    const double* c = cos_table.data() + static_cast<size_t>(k) * n;
+    const double* sn = sin_table.data() + static_cast<size_t>(k) * n;
     for (int i = 0; i < n; ++i) {
-      const double a = 2.0 * M_PI * k * i / n;
-      re += d.range_m[i] * std::cos(a);
-      im -= d.range_m[i] * std::sin(a);
+      re += d.range_m[static_cast<size_t>(i)] * c[i];
+      im -= d.range_m[static_cast<size_t>(i)] * sn[i];
     }
     d.fft_magnitude[static_cast<size_t>(k)] = static_cast<float>(std::hypot(re, im));
   }
@@ -87,19 +119,29 @@ GeoContext computeGeoContext(const Points2d& points_m, const Eigen::Vector2d& vi
   return geoContextFromBuffer(buffer, config);
 }
 
-double inverseCosine(const float* prior, const float* observed, int n) {
+namespace {
+
+/// With w_i = 1 / (a_i + b_i):  sum w a^2 - sum w b^2 = sum (a - b), and
+/// sum w a^2 + sum w b^2 = sum (a + b) - 2 sum w a b. Hence, with N = sum w a b, A = sum a and
+/// B = sum b: sum w a^2 = A - N and sum w b^2 = B - N. One division pass per shift suffices, and
+/// A, B are shift-invariant.
+inline double inverseCosineWithSums(const float* prior, const float* observed, int n,
+                                    float sum_prior, float sum_observed) {
   using Arr = Eigen::Map<const Eigen::ArrayXf>;
   const Arr a(prior, n), b(observed, n);
-  // w = 1 / (a + b); bins empty on both sides contribute nothing (tiny epsilon, no branch).
-  // Stack-allocated up to 1024 bins: this runs ~N_b times per candidate per frame.
-  const Eigen::Array<float, Eigen::Dynamic, 1, Eigen::ColMajor, 1024, 1> w =
-      (a + b + 1e-9f).inverse();
-  const float num = (a * b * w).sum();
-  const float da = (a * a * w).sum();
-  const float db = (b * b * w).sum();
-  if (!(da > 0.0f) || !(db > 0.0f)) return 0.0;
-  const double s = num / std::sqrt(double(da) * db);
-  return std::min(1.0, std::max(0.0, s));
+  // Bins empty on both sides contribute nothing (tiny epsilon instead of a branch).
+  const float num = (a * b / (a + b + 1e-20f)).sum();
+  const double da = double(sum_prior) - num, db = double(sum_observed) - num;
+  if (!(da > 0.0) || !(db > 0.0)) return num > 0.0f ? 1.0 : 0.0;
+  return std::min(1.0, std::max(0.0, num / std::sqrt(da * db)));
+}
+
+inline float sumOf(const float* x, int n) { return Eigen::Map<const Eigen::ArrayXf>(x, n).sum(); }
+
+}  // namespace
+
+double inverseCosine(const float* prior, const float* observed, int n) {
+  return inverseCosineWithSums(prior, observed, n, sumOf(prior, n), sumOf(observed, n));
 }
 
 ShiftTables::ShiftTables(const GeoContext& observed) {
@@ -111,19 +153,74 @@ ShiftTables::ShiftTables(const GeoContext& observed) {
     // r_j = o_{-j}; the window starting at m reads o_{n' - i} with n' = -m (mod N).
     reversed[static_cast<size_t>(i)] = observed.range_m[static_cast<size_t>((2 * n - i) % n)];
   }
+  n_coarse = static_cast<int>(observed.coarse_range_m.size());
+  coarse_plain.resize(2 * static_cast<size_t>(n_coarse));
+  coarse_reversed.resize(2 * static_cast<size_t>(n_coarse));
+  for (int i = 0; i < 2 * n_coarse; ++i) {
+    coarse_plain[static_cast<size_t>(i)] = observed.coarse_range_m[static_cast<size_t>(i % n_coarse)];
+    coarse_reversed[static_cast<size_t>(i)] =
+        observed.coarse_range_m[static_cast<size_t>((2 * n_coarse - i) % n_coarse)];
+  }
+}
+
+ShiftMatch bestColumnShiftCoarseToFine(const GeoContext& prior, const ShiftTables& tables,
+                                       bool try_reversed, int keep) {
+  const int n = tables.n, nc = tables.n_coarse;
+  if (nc == 0 || static_cast<int>(prior.coarse_range_m.size()) != nc || n % nc != 0) {
+    return bestColumnShift(prior.range_m.data(), tables, try_reversed);
+  }
+  const int f = n / nc;
+  const float sa = sumOf(prior.range_m.data(), n), sb = sumOf(tables.plain.data(), n);
+  const float sca = sumOf(prior.coarse_range_m.data(), nc);
+  const float scb = sumOf(tables.coarse_plain.data(), nc);
+  // Coarse scores of every (orientation, coarse shift); the best `keep` are refined.
+  std::vector<std::pair<float, int>> coarse;  // (score, orientation * nc + coarse shift)
+  coarse.reserve(2 * static_cast<size_t>(nc));
+  for (int c = 0; c < nc; ++c) {
+    coarse.emplace_back(static_cast<float>(inverseCosineWithSums(
+                            prior.coarse_range_m.data(), tables.coarse_plain.data() + c, nc, sca, scb)),
+                        c);
+  }
+  if (try_reversed) {
+    for (int m = 0; m < nc; ++m) {
+      coarse.emplace_back(
+          static_cast<float>(inverseCosineWithSums(prior.coarse_range_m.data(),
+                                                   tables.coarse_reversed.data() + m, nc, sca, scb)),
+          nc + (nc - m) % nc);
+    }
+  }
+  keep = std::min<int>(keep, static_cast<int>(coarse.size()));
+  std::partial_sort(coarse.begin(), coarse.begin() + keep, coarse.end(),
+                    [](const auto& a, const auto& b) { return a.first > b.first; });
+  ShiftMatch best;
+  for (int q = 0; q < keep; ++q) {
+    const bool rev = coarse[static_cast<size_t>(q)].second >= nc;
+    const int center = f * (coarse[static_cast<size_t>(q)].second % nc);
+    for (int d = -(f - 1); d <= f - 1; ++d) {
+      const int shift = ((center + d) % n + n) % n;
+      // Plain: window at `shift`; mirrored: shift n' is the window at -n'.
+      const float* window =
+          rev ? tables.reversed.data() + (n - shift) % n : tables.plain.data() + shift;
+      const double v = inverseCosineWithSums(prior.range_m.data(), window, n, sa, sb);
+      if (v > best.score) best = ShiftMatch{v, shift, rev, 0.0};
+    }
+  }
+  best.yaw_rad = std::remainder(2.0 * M_PI * best.shift / n, 2.0 * M_PI);
+  return best;
 }
 
 ShiftMatch bestColumnShift(const float* prior, const ShiftTables& tables, bool try_reversed) {
   ShiftMatch best;
   const int n = tables.n;
   if (n == 0) return best;
+  const float sa = sumOf(prior, n), sb = sumOf(tables.plain.data(), n);
   for (int s = 0; s < n; ++s) {
-    const double v = inverseCosine(prior, tables.plain.data() + s, n);
+    const double v = inverseCosineWithSums(prior, tables.plain.data() + s, n, sa, sb);
     if (v > best.score) best = ShiftMatch{v, s, false, 0.0};
   }
   if (try_reversed) {
     for (int m = 0; m < n; ++m) {
-      const double v = inverseCosine(prior, tables.reversed.data() + m, n);
+      const double v = inverseCosineWithSums(prior, tables.reversed.data() + m, n, sa, sb);
       if (v > best.score) best = ShiftMatch{v, (n - m) % n, true, 0.0};
     }
   }

@@ -6,6 +6,7 @@
 
 #include "efs_common/angles.h"
 #include "efs_common/config_check.h"
+#include "sketch_registration/hpr.h"
 #include "sketch_registration/sim2_fit.h"
 
 namespace efs::registration {
@@ -27,6 +28,7 @@ void ScaleIcpConfig::validate() const {
   requireInRange("min_inlier_ratio", min_inlier_ratio, 0.0, 1.0);
   requireInRange("sketch_margin_m", sketch_margin_m, 0.0, 1e6);
   requireInRange("min_points", min_points, 1, 1000000);
+  requireInRange("reverse_range_m", reverse_range_m, 0.0, 1e4);
 }
 
 ScaleIcp::ScaleIcp(const Points2d& sketch_points_m, const ScaleIcpConfig& config)
@@ -53,7 +55,23 @@ struct Pair {
 };
 }  // namespace
 
-IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed) const {
+namespace {
+/// Trimmed mean of the `ratio` smallest values and the fraction of values <= `inlier`.
+std::pair<double, double> trimmedMean(std::vector<double>& d, double ratio, double inlier) {
+  const size_t keep = std::max<size_t>(1, static_cast<size_t>(ratio * d.size()));
+  std::nth_element(d.begin(), d.begin() + static_cast<long>(keep - 1), d.end());
+  double sum = 0.0;
+  size_t inliers = 0;
+  for (size_t i = 0; i < d.size(); ++i) {
+    if (i < keep) sum += d[i];
+    inliers += d[i] <= inlier;
+  }
+  return {sum / static_cast<double>(keep), static_cast<double>(inliers) / d.size()};
+}
+}  // namespace
+
+IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
+                             const ObservedIndex* reverse) const {
   IcpResult r;
   r.T_world_sketch = T;
   if (tree_.size() == 0 || !T.isFinite() || !(T.scale > 0.0)) return r;
@@ -67,25 +85,51 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed) const {
   }
   r.num_points = static_cast<int>(d.size());
   if (r.num_points < config_.min_points) return r;
-  const size_t keep = std::max<size_t>(1, static_cast<size_t>(config_.fitness_trim_ratio * d.size()));
-  std::nth_element(d.begin(), d.begin() + static_cast<long>(keep - 1), d.end());
-  double sum = 0.0;
-  size_t inliers = 0;
-  for (size_t i = 0; i < d.size(); ++i) {
-    if (i < keep) sum += d[i];
-    inliers += d[i] <= config_.inlier_distance_m;
+  const auto fwd = trimmedMean(d, config_.fitness_trim_ratio, config_.inlier_distance_m);
+  r.forward_fitness_m = fwd.first;
+  r.fitness_m = fwd.first;
+  r.inlier_ratio = fwd.second;
+  if (reverse && reverse->tree && reverse->tree->size() > 0 && config_.reverse_range_m > 0.0) {
+    // Sketch points that the robot would see under T (HPR in the sketch frame, range mapped by
+    // the scale) must have been observed.
+    const Eigen::Vector2d q = inv.apply(reverse->robot_world_m);
+    const double range_sketch = config_.reverse_range_m / T.scale;
+    Points2d nearby;
+    for (const auto& [idx, d2] : tree_.radius(q, range_sketch)) {
+      (void)d2;
+      nearby.push_back(tree_.points()[idx]);
+    }
+    HprConfig hpr;
+    hpr.max_range_m = range_sketch;
+    hpr.min_range_m = std::min(0.2 / T.scale, 0.5 * range_sketch);
+    hpr.point_radius_m = 0.1;
+    const Points2d visible = hiddenPointRemoval(nearby, q, hpr);
+    std::vector<double> dr;
+    dr.reserve(visible.size());
+    for (const auto& c : visible) {
+      dr.push_back(std::sqrt(reverse->tree->nearest(T.apply(c)).second));
+    }
+    if (static_cast<int>(dr.size()) >= config_.min_points) {
+      const auto rev = trimmedMean(dr, config_.fitness_trim_ratio, config_.inlier_distance_m);
+      r.reverse_fitness_m = rev.first;
+      r.fitness_m = 0.5 * (fwd.first + rev.first);
+      r.inlier_ratio = std::min(fwd.second, rev.second);
+    }
   }
-  r.fitness_m = sum / static_cast<double>(keep);
-  r.inlier_ratio = static_cast<double>(inliers) / static_cast<double>(d.size());
   r.valid = r.inlier_ratio >= config_.min_inlier_ratio;
   return r;
 }
 
-IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed) const {
+IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
+                           double start_correspondence_m, const ObservedIndex* reverse) const {
   Sim2 T = T_init;
   IcpResult out;
-  if (tree_.size() == 0 || !T.isFinite() || !(T.scale > 0.0)) return evaluate(T, observed);
-  double max_corr = config_.max_correspondence_m;
+  if (tree_.size() == 0 || !T.isFinite() || !(T.scale > 0.0)) {
+    return evaluate(T, observed, reverse);
+  }
+  double max_corr = start_correspondence_m > 0.0
+                        ? std::max(start_correspondence_m, config_.min_correspondence_m)
+                        : config_.max_correspondence_m;
   std::vector<Pair> pairs;
   pairs.reserve(observed.size());
   int it = 0;
@@ -129,7 +173,7 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed) const {
       break;
     }
   }
-  out = evaluate(T, observed);
+  out = evaluate(T, observed, reverse);
   out.iterations = it;
   return out;
 }

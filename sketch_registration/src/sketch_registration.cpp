@@ -174,7 +174,10 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
                       oc.icp_range_m, oc.icp_voxel_m);
   const Points2d icp_points = thinEvenly(icp_map.points_m, static_cast<size_t>(oc.icp_max_points));
   diag.icp_points = icp_points.size();
-  updateHypotheses(icp_points, diag);
+  PointKdTree2d::Points dense(icp_map.points_m.begin(), icp_map.points_m.end());
+  const PointKdTree2d dense_tree(std::move(dense));
+  const ObservedIndex observed{&dense_tree, robot_xy};
+  updateHypotheses(icp_points, observed, diag);
   result_.last_frame = diag;
 
   result_.hypotheses.clear();
@@ -222,7 +225,8 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
   return result_;
 }
 
-void SketchRegistration::updateHypotheses(const Points2d& icp_points, FrameDiagnostics& diag) {
+void SketchRegistration::updateHypotheses(const Points2d& icp_points,
+                                          const ObservedIndex& observed, FrameDiagnostics& diag) {
   struct Input {
     int id;
     int age;
@@ -253,7 +257,9 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, FrameDiagn
   };
   std::vector<Refined> refined;
   for (const Input& in : inputs) {
-    const IcpResult r = icp_->refine(in.T, icp_points);
+    // Live hypotheses were refined last frame: a narrow capture radius suffices.
+    const IcpResult r = icp_->refine(
+        in.T, icp_points, in.id >= 0 ? 1.5 * config_.icp.min_correspondence_m : 0.0, &observed);
     ++diag.icp_runs;
     if (!r.valid || !(r.fitness_m <= config_.fitness_threshold_m)) continue;
     refined.push_back({in.id, in.age, r});

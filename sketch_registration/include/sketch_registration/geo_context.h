@@ -27,6 +27,11 @@ struct DescriptorConfig {
   double max_range_m = 30.0;   ///< in the frame of the points described
   double point_radius_m = 0.1;
   int min_valid_bins = 6;      ///< fewer non-empty bins: the descriptor is unusable
+  /// Retrieval searches column shifts coarse-to-fine: all shifts of a descriptor max-pooled by
+  /// this factor, then every fine shift around the best `coarse_shift_keep` coarse ones. 1 =
+  /// exhaustive. Must divide num_bins.
+  int coarse_shift_factor = 3;
+  int coarse_shift_keep = 3;
 
   void validate() const;
   HprConfig hprConfig() const;
@@ -36,6 +41,7 @@ struct DescriptorConfig {
 struct GeoContext {
   std::vector<float> range_m;       ///< N_b maximum ranges, 0 for an empty bin
   std::vector<float> fft_magnitude; ///< N_c magnitudes |DFT_k|, k = 0..N_c-1
+  std::vector<float> coarse_range_m; ///< max-pooled by coarse_shift_factor (bins centred alike)
   double cv = 0.0;                  ///< coefficient of variation sigma / mu
   bool valid = false;               ///< enough non-empty bins to be compared
 };
@@ -68,11 +74,17 @@ ShiftMatch bestColumnShift(const GeoContext& prior, const GeoContext& observed, 
 /// a contiguous window: prepared once per frame, used for every candidate.
 struct ShiftTables {
   explicit ShiftTables(const GeoContext& observed);
-  int n = 0;
+  int n = 0, n_coarse = 0;
   std::vector<float> plain, reversed;
+  std::vector<float> coarse_plain, coarse_reversed;
 };
+/// Exhaustive over all N_b shifts (and mirrored shifts).
 ShiftMatch bestColumnShift(const float* prior_range_m, const ShiftTables& tables,
                            bool try_reversed);
+/// Coarse-to-fine (see DescriptorConfig::coarse_shift_factor); exhaustive when the prior has no
+/// coarse descriptor.
+ShiftMatch bestColumnShiftCoarseToFine(const GeoContext& prior, const ShiftTables& tables,
+                                       bool try_reversed, int keep);
 
 double fftSimilarity(const GeoContext& prior, const GeoContext& observed);
 double cvSimilarity(const GeoContext& prior, const GeoContext& observed);

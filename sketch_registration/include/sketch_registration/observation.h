@@ -17,7 +17,7 @@ struct ObservationConfig {
   double descriptor_voxel_m = 0.1;  ///< grid for the GeoContext input
   double icp_voxel_m = 0.3;         ///< grid for the Scale-ICP input
   double icp_range_m = 40.0;        ///< horizontal radius kept for Scale-ICP
-  int icp_max_points = 1500;        ///< evenly thinned above this
+  int icp_max_points = 800;        ///< evenly thinned above this
   void validate() const;
 };
 

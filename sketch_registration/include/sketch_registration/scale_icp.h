@@ -21,7 +21,7 @@
 namespace efs::registration {
 
 struct ScaleIcpConfig {
-  int max_iterations = 30;
+  int max_iterations = 25;
   double max_correspondence_m = 4.0;  ///< world, first iteration
   double min_correspondence_m = 1.0;  ///< world, annealed down to this
   double anneal_factor = 0.8;         ///< per iteration
@@ -32,16 +32,28 @@ struct ScaleIcpConfig {
   double convergence_m = 1e-3;        ///< stop when the transform moves less than this
   double fitness_trim_ratio = 0.8;    ///< F over this fraction of the closest observed points
   double inlier_distance_m = 1.0;     ///< for the inlier ratio
-  double min_inlier_ratio = 0.3;      ///< below this the hypothesis is invalid
+  double min_inlier_ratio = 0.75;     ///< below this the hypothesis is invalid
   double sketch_margin_m = 3.0;       ///< sketch frame, around the sketch's bounding box
   int min_points = 20;                ///< observed points inside the sketch needed
+  /// Reverse term (the paper's direction, prior -> observation): sketch points visible from the
+  /// robot within this world range must have an observed point nearby. Catches transforms that
+  /// put sketch walls where the LiDAR saw free space. 0 disables.
+  double reverse_range_m = 20.0;
   void validate() const;
+};
+
+/// What the reverse fitness term needs: the dense projected observation and the robot position.
+struct ObservedIndex {
+  const PointKdTree2d* tree = nullptr;  ///< dense 2D observation, world frame
+  Eigen::Vector2d robot_world_m = Eigen::Vector2d::Zero();
 };
 
 struct IcpResult {
   Sim2 T_world_sketch;
-  double fitness_m = 1e9;     ///< F
-  double inlier_ratio = 0.0;
+  double fitness_m = 1e9;     ///< F: mean of the forward and (if available) reverse trimmed means
+  double inlier_ratio = 0.0;  ///< the smaller of the two directions' inlier ratios
+  double forward_fitness_m = 1e9;  ///< observation -> sketch
+  double reverse_fitness_m = 0.0;  ///< visible sketch -> observation (0 when not evaluated)
   int iterations = 0;
   int num_points = 0;         ///< observed points used
   bool valid = false;         ///< enough points and inliers
@@ -52,9 +64,14 @@ class ScaleIcp {
   ScaleIcp(const Points2d& sketch_points_m, const ScaleIcpConfig& config);
 
   /// Iterates from `T_init` on `observed_world_m` (2D boundary of the observation map).
-  IcpResult refine(const Sim2& T_init, const Points2d& observed_world_m) const;
+  /// `start_correspondence_m` > 0 overrides max_correspondence_m (a warm start from last frame's
+  /// refined transform needs no wide capture radius).
+  IcpResult refine(const Sim2& T_init, const Points2d& observed_world_m,
+                   double start_correspondence_m = 0.0,
+                   const ObservedIndex* reverse = nullptr) const;
   /// Only the fitness of `T` (no iterations).
-  IcpResult evaluate(const Sim2& T, const Points2d& observed_world_m) const;
+  IcpResult evaluate(const Sim2& T, const Points2d& observed_world_m,
+                     const ObservedIndex* reverse = nullptr) const;
 
   const ScaleIcpConfig& config() const { return config_; }
   size_t numSketchPoints() const { return tree_.size(); }

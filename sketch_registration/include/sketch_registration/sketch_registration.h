@@ -85,7 +85,7 @@ struct SketchRegistrationConfig {
   VerifierConfig verifier;              ///< its scale and reflection fields are set from here
   ScaleIcpConfig icp;                   ///< its scale bounds are set from here
   ObservationConfig observation;
-  double fitness_threshold_m = 1.0;     ///< F_thresh
+  double fitness_threshold_m = 0.6;     ///< F_thresh (not given in the paper)
   double confidence_tau = 0.3;          ///< tau
   double max_speed_mps = 20.0;          ///< faster between frames = odometry jump
   ReflectionMode reflection = ReflectionMode::kDetect;
@@ -118,7 +118,8 @@ class SketchRegistration {
   void reset();
 
  private:
-  void updateHypotheses(const Points2d& icp_points, FrameDiagnostics& diag);
+  void updateHypotheses(const Points2d& icp_points, const ObservedIndex& observed,
+                        FrameDiagnostics& diag);
   RegistrationResult& fail(RegistrationStatus status, const std::string& message);
 
   Config config_;

@@ -1,0 +1,182 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// End to end on a generated office floor: the sketch is the floor plan; the world is the plan
+// under a known similarity; the robot walks the corridors and a LiDAR-like observer accumulates a
+// noisy 3D local map (walls extruded to 3 m, floor and ceiling returns). A frame every 10 m.
+#include <gtest/gtest.h>
+
+#include "sketch_registration/sketch_registration.h"
+#include "sketch_registration/synthetic_scene.h"
+
+namespace efs::registration {
+namespace {
+
+using Eigen::Vector2d;
+namespace syn = synthetic;
+
+struct ScenarioRun {
+  RegistrationResult last;
+  std::vector<RegistrationStatus> statuses;
+};
+
+syn::Scenario officeScenario(const Sim2& T, bool mirror_sketch = false) {
+  Vector2d lo, hi;
+  std::vector<syn::Box> solids;
+  syn::FloorPlan plan = syn::makeOfficeFloor(&lo, &hi, &solids);
+  // Corridor walk: along the horizontal corridor, up the vertical one, into rooms and back.
+  Points2d waypoints = {{3, 18}, {25, 18}, {42, 18}, {42, 37}, {42, 25}, {52, 25},
+                        {52, 18}, {58, 18}, {58, 10}, {38, 10}};
+  syn::Scenario sc = syn::makeScenario(plan, solids, lo, hi, T, waypoints);
+  if (mirror_sketch) {
+    // The user drew the plan mirrored: the sketch the registration gets is reflected in y.
+    for (auto& p : sc.sketch_points_m) p.y() = -p.y();
+    for (auto& p : sc.candidates_m) p.y() = -p.y();
+  }
+  return sc;
+}
+
+ScenarioRun runScenario(const syn::Scenario& sc, SketchRegistration& reg, int max_frames = 100) {
+  syn::LocalMapSimulator::Config sim_config;
+  syn::LocalMapSimulator sim(sc.world_plan, sim_config);
+  ScenarioRun run;
+  int frames = 0;
+  for (size_t i = 0; i < sc.path_world_m.size() && frames < max_frames; ++i) {
+    sim.scanAt(sc.path_world_m[i]);
+    if (i % 5 != 4) continue;
+    const Vector2d p = sc.path_world_m[i];
+    run.last = reg.addFrame(double(i), {p.x(), p.y(), 1.5}, sim.localMap(p, 40.0));
+    run.statuses.push_back(run.last.status);
+    if (getenv("EFS_DEBUG")) {
+      for (const auto& h : run.last.hypotheses) printf("  frame %zu id %d F %.3f inl %.3f %s\n", i, h.id, h.fitness_m, h.inlier_ratio, h.T_world_sketch.toString().c_str());
+      for (const auto& h : run.last.mirrored_hypotheses) printf("  frame %zu MIRROR id %d F %.3f inl %.3f %s\n", i, h.id, h.fitness_m, h.inlier_ratio, h.T_world_sketch.toString().c_str());
+    }
+    ++frames;
+  }
+  return run;
+}
+
+/// Worst distance, over the sketch's walls near the path, between where `T` and the truth put them.
+double worstError(const Sim2& T, const Sim2& truth, const syn::Scenario& sc) {
+  double worst = 0.0;
+  for (const Vector2d& p : sc.path_world_m) {
+    const Vector2d c = truth.inverse().apply(p);
+    worst = std::max(worst, (T.apply(c) - p).norm());
+  }
+  return worst;
+}
+
+TEST(EndToEnd, OfficeBestHypothesisWithinOneMetre) {
+  const Sim2 truth(2.0, 1.3, Vector2d(15.0, -7.0));
+  const syn::Scenario sc = officeScenario(truth);
+  SketchRegistration::Config config;
+  SketchRegistration reg(config, sc.sketch_points_m, sc.candidates_m);
+  ASSERT_GT(reg.database().validCount(), 1000u);
+  const ScenarioRun run = runScenario(sc, reg);
+  ASSERT_GE(run.statuses.size(), 5u);
+  EXPECT_EQ(run.statuses[0], RegistrationStatus::kTooFewFrames);
+  EXPECT_EQ(run.statuses[1], RegistrationStatus::kTooFewFrames);
+  ASSERT_EQ(run.last.status, RegistrationStatus::kOk) << run.last.message;
+  const Hypothesis& best = run.last.hypotheses.front();
+  EXPECT_LT(worstError(best.T_world_sketch, truth, sc), 1.0) << best.T_world_sketch.toString();
+  EXPECT_NEAR(best.T_world_sketch.scale, 1.3, 0.05);
+  EXPECT_FALSE(best.T_world_sketch.reflected);
+  EXPECT_LT(best.fitness_m, config.fitness_threshold_m);
+  double total = 0.0;
+  for (const auto& h : run.last.hypotheses) {
+    EXPECT_GT(h.confidence, 0.0);
+    EXPECT_LE(h.confidence, 1.0);
+    total += h.confidence;
+  }
+  EXPECT_NEAR(total, 1.0, 1e-9);
+}
+
+TEST(EndToEnd, HypothesisIdIsStableOnceConverged) {
+  const Sim2 truth(-0.7, 0.8, Vector2d(-20.0, 40.0));
+  const syn::Scenario sc = officeScenario(truth);
+  SketchRegistration reg(SketchRegistration::Config{}, sc.sketch_points_m, sc.candidates_m);
+  syn::LocalMapSimulator sim(sc.world_plan, syn::LocalMapSimulator::Config{});
+  int good_id = -1, good_frames = 0;
+  for (size_t i = 0; i < sc.path_world_m.size(); ++i) {
+    sim.scanAt(sc.path_world_m[i]);
+    if (i % 5 != 4) continue;
+    const Vector2d p = sc.path_world_m[i];
+    const auto& r = reg.addFrame(double(i), {p.x(), p.y(), 1.5}, sim.localMap(p, 40.0));
+    for (const auto& h : r.hypotheses) {
+      if (worstError(h.T_world_sketch, truth, sc) < 1.0) {
+        if (good_id >= 0) {
+          EXPECT_EQ(h.id, good_id) << "frame " << i;
+        }
+        good_id = h.id;
+        ++good_frames;
+      }
+    }
+  }
+  EXPECT_GE(good_frames, 3);
+}
+
+TEST(EndToEnd, ScaleGuessWrongByFactorTwo) {
+  const Sim2 truth(1.0, 2.0, Vector2d(5.0, 5.0));
+  const syn::Scenario sc = officeScenario(truth);
+  SketchRegistration::Config config;
+  config.scale_guess = 1.0;  // the truth is 2
+  SketchRegistration reg(config, sc.sketch_points_m, sc.candidates_m);
+  const ScenarioRun run = runScenario(sc, reg);
+  ASSERT_EQ(run.last.status, RegistrationStatus::kOk) << run.last.message;
+  EXPECT_LT(worstError(run.last.hypotheses.front().T_world_sketch, truth, sc), 1.0);
+}
+
+TEST(EndToEnd, MirroredSketchIsReportedNotCollapsed) {
+  const Sim2 truth(0.5, 1.1, Vector2d(3.0, -4.0));
+  const syn::Scenario sc = officeScenario(truth, /*mirror_sketch=*/true);
+  // The true sketch->world map of the mirrored sketch is truth * diag(1, -1).
+  const Sim2 mirror(0.0, 1.0, Vector2d::Zero(), true);
+  const Sim2 truth_mirrored = truth * mirror;
+  {
+    SketchRegistration::Config config;
+    config.reflection = ReflectionMode::kDetect;
+    SketchRegistration reg(config, sc.sketch_points_m, sc.candidates_m);
+    const ScenarioRun run = runScenario(sc, reg);
+    EXPECT_EQ(run.last.status, RegistrationStatus::kMirroredSketch) << run.last.message;
+    for (const auto& h : run.last.hypotheses) {
+      EXPECT_GT(h.T_world_sketch.scale, 0.5) << "collapsed scale reported as a hypothesis";
+    }
+    ASSERT_FALSE(run.last.mirrored_hypotheses.empty());
+    EXPECT_TRUE(run.last.mirrored_hypotheses.front().T_world_sketch.reflected);
+  }
+  {
+    SketchRegistration::Config config;
+    config.reflection = ReflectionMode::kRegister;
+    SketchRegistration reg(config, sc.sketch_points_m, sc.candidates_m);
+    const ScenarioRun run = runScenario(sc, reg);
+    ASSERT_EQ(run.last.status, RegistrationStatus::kOk) << run.last.message;
+    EXPECT_TRUE(run.last.best_is_mirrored);
+    const Sim2& best = run.last.hypotheses.front().T_world_sketch;
+    EXPECT_TRUE(best.reflected);
+    double worst = 0.0;
+    for (const Vector2d& p : sc.path_world_m) {
+      worst = std::max(worst, (best.apply(truth_mirrored.inverse().apply(p)) - p).norm());
+    }
+    EXPECT_LT(worst, 1.0);
+  }
+}
+
+TEST(EndToEnd, SketchOfAnotherPlaceYieldsNoHypothesis) {
+  const Sim2 truth(0.3, 1.0, Vector2d(0.0, 0.0));
+  const syn::Scenario office = officeScenario(truth);
+  // The sketch handed over is a garage: nothing in it fits the office.
+  Vector2d lo, hi;
+  std::vector<syn::Box> solids;
+  const syn::FloorPlan garage = syn::makeGarageFloor(11, &lo, &hi, &solids);
+  const syn::Scenario other = syn::makeScenario(garage, solids, lo, Vector2d(90, 70), Sim2(),
+                                                {{4, 4}, {8, 4}});
+  SketchRegistration reg(SketchRegistration::Config{}, other.sketch_points_m,
+                         other.candidates_m);
+  const ScenarioRun run = runScenario(office, reg);
+  EXPECT_TRUE(run.last.hypotheses.empty());
+  EXPECT_TRUE(run.last.status == RegistrationStatus::kNoConsistentTriplet ||
+              run.last.status == RegistrationStatus::kAllRejectedByFitness)
+      << toString(run.last.status) << ": " << run.last.message;
+}
+
+}  // namespace
+}  // namespace efs::registration
