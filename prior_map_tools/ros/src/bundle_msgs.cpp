@@ -1,29 +1,17 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include "prior_map_tools_ros/bundle_msgs.h"
 
-#include <sensor_msgs/point_cloud2_iterator.h>
+#include "efs_common_ros/cloud_conversions.h"
 
 namespace efs::prior_map {
 
 sensor_msgs::PointCloud2 toPointCloud2(const std::vector<Eigen::Vector2d>& points_m,
                                        const std_msgs::Header& header) {
-  sensor_msgs::PointCloud2 cloud;
-  cloud.header = header;
-  sensor_msgs::PointCloud2Modifier modifier(cloud);
-  modifier.setPointCloud2FieldsByString(1, "xyz");
-  modifier.resize(points_m.size());
-  cloud.height = 1;
-  cloud.width = static_cast<uint32_t>(points_m.size());
-  sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
-  for (const auto& p : points_m) {
-    *x = static_cast<float>(p.x());
-    *y = static_cast<float>(p.y());
-    *z = 0.0f;
-    ++x;
-    ++y;
-    ++z;
-  }
-  return cloud;
+  std::vector<Eigen::Vector3f> points;
+  points.reserve(points_m.size());
+  for (const auto& p : points_m)
+    points.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), 0.0f);
+  return ros_common::toPointCloud2(points, header);
 }
 
 explore_from_sketch::Guidepoints toGuidepointsMsg(const PriorBundle& bundle,
