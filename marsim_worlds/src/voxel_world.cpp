@@ -362,4 +362,56 @@ std::size_t VoxelWorld::occupiedVoxelCount() const {
   return n;
 }
 
+std::vector<uint8_t> VoxelWorld::freeColumns(double z_min_m, double z_max_m) const {
+  const int nx = dims_vox_.x(), ny = dims_vox_.y();
+  std::vector<uint8_t> out(static_cast<size_t>(nx) * ny, 0);
+  const int z0 = std::max(0, static_cast<int>(std::ceil((z_min_m - origin_m_.z()) * inv_resolution_ - 0.5)));
+  const int z1 = std::min(dims_vox_.z() - 1,
+                          static_cast<int>(std::floor((z_max_m - origin_m_.z()) * inv_resolution_ - 0.5)));
+  if (z1 < z0) return out;
+  for (int by = 0; by < dims_bricks_.y(); ++by) {
+    for (int bx = 0; bx < dims_bricks_.x(); ++bx) {
+      uint64_t free_bits = 0;  // bit (x + 8 y) set: that column has a free voxel in the band
+      for (int bz = z0 >> kBrickShift; bz <= (z1 >> kBrickShift) && free_bits != ~uint64_t{0}; ++bz) {
+        const int32_t slot = bricks_[brickLinear({bx, by, bz})];
+        if (slot == kFullBrick) continue;
+        if (slot == kEmptyBrick) {
+          free_bits = ~uint64_t{0};
+          break;
+        }
+        const BrickMask& m = pool_[static_cast<size_t>(slot)];
+        const int lo = std::max(z0 - bz * kBrickEdge, 0);
+        const int hi = std::min(z1 - bz * kBrickEdge, kBrickMask);
+        for (int z = lo; z <= hi; ++z) free_bits |= ~m.rows[z];
+      }
+      if (free_bits == 0) continue;
+      for (int y = 0; y < kBrickEdge; ++y) {
+        for (int x = 0; x < kBrickEdge; ++x) {
+          if ((free_bits >> (x + kBrickEdge * y)) & 1u) {
+            out[static_cast<size_t>(by * kBrickEdge + y) * nx + bx * kBrickEdge + x] = 1;
+          }
+        }
+      }
+    }
+  }
+  return out;
+}
+
+uint64_t VoxelWorld::fingerprint() const {
+  uint64_t h = 0xCBF29CE484222325ULL;
+  auto mix = [&h](uint64_t v) {
+    h ^= v + 0x9E3779B97F4A7C15ULL + (h << 6) + (h >> 2);
+    h *= 0x100000001B3ULL;
+  };
+  for (int a = 0; a < 3; ++a) mix(static_cast<uint64_t>(dims_vox_[a]));
+  for (int32_t slot : bricks_) {
+    if (slot < 0) {
+      mix(static_cast<uint64_t>(static_cast<int64_t>(slot)));
+    } else {
+      for (uint64_t r : pool_[static_cast<size_t>(slot)].rows) mix(r);
+    }
+  }
+  return h;
+}
+
 }  // namespace efs::sim

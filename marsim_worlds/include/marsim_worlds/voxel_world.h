@@ -121,12 +121,19 @@ class VoxelWorld final : public WorldGeometry {
   /// Distance (to `max_m`, at voxel precision) from `p_m` to the nearest occupied voxel.
   double clearance(const Eigen::Vector3d& p_m, double max_m) const;
 
+  /// Top-down map of the grid (dimsVoxels().x() * dimsVoxels().y(), x fastest): 1 where the
+  /// column holds a free voxel with its centre in [z_min_m, z_max_m], else 0. Brick-wise, so the
+  /// SubT-scale world takes well under a second.
+  std::vector<uint8_t> freeColumns(double z_min_m, double z_max_m) const;
+
   // --- statistics ----------------------------------------------------------------------------
   std::size_t memoryBytes() const;
   std::size_t maskedBrickCount() const { return pool_.size() - free_slots_.size(); }
   std::size_t fullBrickCount() const;
   /// Number of occupied voxels (full bricks count 512 each).
   std::size_t occupiedVoxelCount() const;
+  /// Hash of the grid geometry and occupancy (not of the pool layout): equal worlds, equal hash.
+  uint64_t fingerprint() const;
 
  private:
   static Eigen::Vector3i brickOf(const Eigen::Vector3i& v) {
