@@ -52,6 +52,34 @@ TEST(Simulator, TimeAdvancesInWholePhysicsStepsAndFramesComeAt10Hz) {
   EXPECT_LT((sim.groundTruth().p_world_m - Eigen::Vector3d(0, 0, 1.5)).norm(), 1e-9);
 }
 
+// Callers stepping by less than a physics step lose no time: requests accumulate.
+TEST(Simulator, ShortStepsAccumulate) {
+  const AnalyticBoxWorld room = makeBoxRoom({10.0, 8.0, 3.0});
+  SimulatorConfig c = baseConfig({0, 0, 1.5});
+  c.lidar_enabled = false;
+  Simulator sim(room, c);
+  for (int i = 0; i < 10; ++i) sim.step(0.0005);
+  EXPECT_EQ(sim.physicsSteps(), 2u);  // 5 ms at 500 Hz
+  sim.advanceTo(0.001);               // the past: nothing happens
+  EXPECT_EQ(sim.physicsSteps(), 2u);
+  sim.step(NAN);
+  EXPECT_EQ(sim.physicsSteps(), 2u);
+  EXPECT_EQ(sim.latestScan().seq, 0u);  // LiDAR disabled
+}
+
+// The Avia-like sensor looks forward only: in a closed room all its returns lie ahead.
+TEST(Simulator, AviaScansLookForward) {
+  const AnalyticBoxWorld room = makeBoxRoom({10.0, 8.0, 3.0});
+  SimulatorConfig c = baseConfig({0, 0, 1.5});
+  c.lidar.pattern = LivoxPatternConfig::avia();
+  c.lidar.mount_pitch_rad = 0.0;
+  Simulator sim(room, c);
+  sim.advanceTo(0.1);
+  ASSERT_EQ(sim.latestScan().seq, 1u);
+  EXPECT_EQ(sim.latestScan().points_world.size(), 24000u);
+  for (const auto& p : sim.latestScan().points_world) ASSERT_GT(p.x(), 0.0f);
+}
+
 TEST(Simulator, ScanPointsLieOnTheRoomWallsWhileFlying) {
   const AnalyticBoxWorld room = makeRoomWithPillar({12.0, 8.0, 3.0}, 3.0, 0.0, 0.8);
   SimulatorConfig c = baseConfig({-3, 0, 1.5});

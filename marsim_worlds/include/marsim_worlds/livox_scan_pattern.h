@@ -30,6 +30,9 @@ struct LivoxPatternConfig {
   /// Avia field of view (full angles, horizontal about sensor z, vertical about sensor y).
   double avia_fov_horizontal_rad = 70.4 * M_PI / 180.0;
   double avia_fov_vertical_rad = 77.2 * M_PI / 180.0;
+  /// Mid-360: points are fired in azimuth order within blocks of this many (a sweep of the
+  /// head); 1 keeps the raw low-discrepancy order. Frames and 1 s windows hold whole blocks.
+  int sweep_block_points = 400;
   /// Length of the precomputed table. Longer costs memory (12 bytes per point).
   double table_period_s = 1.0;
 
