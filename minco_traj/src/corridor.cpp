@@ -69,8 +69,9 @@ CorridorResult CorridorBuilder::build(const std::vector<Eigen::Vector3d>& path,
     const Eigen::Vector3d hi = a.cwiseMax(b).array() + cfg_.box_margin_m;
     obstacles.clear();
     // Obstacles just outside the box are still within clearance of its faces: gather them too.
+    // Interior cells can be skipped when the clearance spans two cells (see local_grid.h).
     grid.occupiedCentersInBox(lo.array() - cfg_.clearance_m, hi.array() + cfg_.clearance_m,
-                              obstacles);
+                              obstacles, cfg_.clearance_m >= 2.0 * grid.resolution());
     bool in_collision = false;
     res.polytopes.push_back(inflateSegment(a, b, obstacles, lo.cwiseMax(wlo).cwiseMin(a.cwiseMin(b)),
                                            hi.cwiseMin(whi).cwiseMax(a.cwiseMax(b)),
@@ -245,9 +246,7 @@ Polytope CorridorBuilder::inflateSegment(const Eigen::Vector3d& sa, const Eigen:
   Eigen::Vector3d d = 0.5 * (sa + sb);
 
   const int n = static_cast<int>(obstacles.size());
-  std::vector<double> dist(n);
-  std::vector<int> order(n);
-  std::vector<char> handled(n);
+  std::vector<std::pair<Eigen::Vector3d, double>> remaining;
   std::vector<Eigen::Vector3d> normals;
   std::vector<double> offsets;
   for (int iter = 0; iter < cfg_.iterations; ++iter) {
@@ -263,13 +262,16 @@ Polytope CorridorBuilder::inflateSegment(const Eigen::Vector3d& sa, const Eigen:
       offsets.push_back(-lo[a]);
     }
     const Eigen::Matrix3d Cinv = C.inverse();
-    for (int i = 0; i < n; ++i) dist[i] = (Cinv * (obstacles[i] - d)).squaredNorm();
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](int x, int y) { return dist[x] < dist[y]; });
-    std::fill(handled.begin(), handled.end(), 0);
-    for (int oi : order) {
-      if (handled[oi]) continue;
-      const Eigen::Vector3d& o = obstacles[oi];
+    // Remaining obstacles, compacted as planes handle them; each plane costs one pass that also
+    // finds the nearest remaining point (in the ellipsoid metric) for the next plane.
+    remaining.resize(n);
+    for (int i = 0; i < n; ++i) remaining[i] = {obstacles[i], (Cinv * (obstacles[i] - d)).squaredNorm()};
+    int best = -1;
+    double best_d = 1e300;
+    for (int i = 0; i < n; ++i)
+      if (remaining[i].second < best_d) best_d = remaining[i].second, best = i;
+    while (best >= 0) {
+      const Eigen::Vector3d o = remaining[best].first;
       Eigen::Vector3d nrm = Cinv.transpose() * (Cinv * (o - d));  // IRIS tangent plane normal
       double seed_max = 0.0;
       bool tangent_ok = nrm.norm() > 1e-12;
@@ -278,27 +280,38 @@ Polytope CorridorBuilder::inflateSegment(const Eigen::Vector3d& sa, const Eigen:
         seed_max = std::max(nrm.dot(sa), nrm.dot(sb));
         tangent_ok = seed_max <= nrm.dot(o) - cfg_.clearance_m;
       }
+      bool skip = false;
       if (!tangent_ok) {
         const Eigen::Vector3d c = closestOnSegment(sa, sb, o);
         const double dn = (o - c).norm();
         if (dn < 1e-9) {
           *in_collision = true;  // nothing can separate a point on the seed
-          handled[oi] = 1;
-          continue;
+          skip = true;
+        } else {
+          nrm = (o - c) / dn;
+          seed_max = std::max(nrm.dot(sa), nrm.dot(sb));
         }
-        nrm = (o - c) / dn;
-        seed_max = std::max(nrm.dot(sa), nrm.dot(sb));
       }
-      const double off = nrm.dot(o);
-      double shifted = off - cfg_.clearance_m;
-      if (shifted < seed_max) {
-        shifted = seed_max;
-        poly.clearance_reduced = true;
+      const double off = skip ? 0.0 : nrm.dot(o);
+      if (!skip) {
+        double shifted = off - cfg_.clearance_m;
+        if (shifted < seed_max) {
+          shifted = seed_max;
+          poly.clearance_reduced = true;
+        }
+        normals.push_back(nrm);
+        offsets.push_back(shifted);
       }
-      normals.push_back(nrm);
-      offsets.push_back(shifted);
-      for (int j = 0; j < n; ++j)
-        if (!handled[j] && nrm.dot(obstacles[j]) >= off - 1e-12) handled[j] = 1;
+      size_t keep = 0;
+      best = -1;
+      best_d = 1e300;
+      for (size_t j = 0; j < remaining.size(); ++j) {
+        const auto& r = remaining[j];
+        if (skip ? (r.first == o) : (nrm.dot(r.first) >= off - 1e-12)) continue;  // handled
+        if (r.second < best_d) best_d = r.second, best = static_cast<int>(keep);
+        remaining[keep++] = r;
+      }
+      remaining.resize(keep);
     }
     poly.A.resize(static_cast<int>(normals.size()), 3);
     poly.b.resize(static_cast<int>(normals.size()));
@@ -306,7 +319,7 @@ Polytope CorridorBuilder::inflateSegment(const Eigen::Vector3d& sa, const Eigen:
       poly.A.row(k) = normals[k].transpose();
       poly.b(k) = offsets[k];
     }
-    // Ellipsoid step (also stored for the last iteration: it is the corridor's "core").
+    if (iter + 1 == cfg_.iterations) break;  // the last polytope needs no new ellipsoid
     Eigen::Matrix3d Cn;
     Eigen::Vector3d dn;
     if (!maxVolumeInscribedEllipsoid(poly.A, poly.b, 0.5 * (sa + sb), cfg_.mvie_newton_steps, &Cn,

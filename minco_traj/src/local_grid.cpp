@@ -51,6 +51,7 @@ LocalGrid::LocalGrid(const LocalGridConfig& cfg, const Eigen::Vector3d& c) : cfg
   const size_t n = static_cast<size_t>(nx_) * ny_ * nz_;
   logodds_.assign(n, 0.f);
   observed_.assign(n, 0);
+  occupied_.assign(n, 0);
   inflation_.assign(n, 0);
   scan_stamp_.assign(n, 0);
   const VoxelKey ck = key(c);
@@ -98,6 +99,7 @@ void LocalGrid::recenter(const Eigen::Vector3d& c) {
           const size_t idx = (static_cast<size_t>(ix) * ny_ + iy) * nz_ + iz;
           logodds_[idx] = 0.f;
           observed_[idx] = 0;
+          occupied_[idx] = 0;
         }
       }
     }
@@ -131,6 +133,7 @@ void LocalGrid::updateCell(size_t idx, const VoxelKey& k, float delta) {
   logodds_[idx] = std::clamp(logodds_[idx] + delta, static_cast<float>(cfg_.logodds_min),
                              static_cast<float>(cfg_.logodds_max));
   const bool is_occ = logodds_[idx] > cfg_.logodds_occupied;
+  occupied_[idx] = is_occ;
   if (is_occ != was_occ) stampInflation(k, is_occ ? +1 : -1);
 }
 
@@ -186,6 +189,7 @@ void LocalGrid::setFree(const Eigen::Vector3d& p) {
 void LocalGrid::setAllFree() {
   std::fill(logodds_.begin(), logodds_.end(), static_cast<float>(cfg_.logodds_min));
   std::fill(observed_.begin(), observed_.end(), 1);
+  std::fill(occupied_.begin(), occupied_.end(), 0);
   std::fill(inflation_.begin(), inflation_.end(), 0);
 }
 
@@ -207,8 +211,17 @@ bool LocalGrid::isBlocked(const VoxelKey& k, bool unknown_is_free) const {
   return !unknown_is_free && !observed_[idx];
 }
 
+bool LocalGrid::isInterior(const VoxelKey& k) const {
+  static const int kOff[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  for (const auto& o : kOff) {
+    const VoxelKey n{k.x + o[0], k.y + o[1], k.z + o[2]};
+    if (!inWindow(n) || !occupied_[index(n)]) return false;
+  }
+  return true;
+}
+
 void LocalGrid::occupiedCentersInBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                                     std::vector<Eigen::Vector3d>& out) const {
+                                     std::vector<Eigen::Vector3d>& out, bool surface_only) const {
   const double res = cfg_.resolution_m;
   const VoxelKey wmax = maxKey();
   const int x0 = std::max(min_key_.x, static_cast<int>(std::ceil(lo.x() / res - 0.5)));
@@ -217,21 +230,25 @@ void LocalGrid::occupiedCentersInBox(const Eigen::Vector3d& lo, const Eigen::Vec
   const int x1 = std::min(wmax.x, static_cast<int>(std::floor(hi.x() / res - 0.5)));
   const int y1 = std::min(wmax.y, static_cast<int>(std::floor(hi.y() / res - 0.5)));
   const int z1 = std::min(wmax.z, static_cast<int>(std::floor(hi.z() / res - 0.5)));
-  const float thr = static_cast<float>(cfg_.logodds_occupied);
+  if (z1 < z0) return;
+  const int iz0 = posMod(z0, nz_);
   for (int x = x0; x <= x1; ++x)
     for (int y = y0; y <= y1; ++y) {
       const size_t base = (static_cast<size_t>(posMod(x, nx_)) * ny_ + posMod(y, ny_)) * nz_;
+      int iz = iz0;
       for (int z = z0; z <= z1; ++z) {
-        const size_t idx = base + posMod(z, nz_);
-        if (observed_[idx] && logodds_[idx] > thr) out.push_back(center({x, y, z}));
+        if (occupied_[base + iz]) {
+          const VoxelKey k{x, y, z};
+          if (!surface_only || !isInterior(k)) out.push_back(center(k));
+        }
+        if (++iz == nz_) iz = 0;
       }
     }
 }
 
 size_t LocalGrid::occupiedCount() const {
   size_t n = 0;
-  const float thr = static_cast<float>(cfg_.logodds_occupied);
-  for (size_t i = 0; i < logodds_.size(); ++i) n += observed_[i] && logodds_[i] > thr;
+  for (uint8_t o : occupied_) n += o;
   return n;
 }
 

@@ -31,7 +31,10 @@ struct Polytope {
   Eigen::Matrix<double, Eigen::Dynamic, 3> A;  ///< unit outward normals, one per row
   Eigen::VectorXd b;
   Eigen::Vector3d seed_start_m = Eigen::Vector3d::Zero(), seed_end_m = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d ellipsoid_C = Eigen::Matrix3d::Identity();  ///< E = {C u + d, |u| <= 1}
+  /// The ellipsoid E = {C u + d, |u| <= 1} of the last half-space step (inside the polytope
+  /// whenever iterations >= 2, since it is then the previous polytope's inscribed ellipsoid and
+  /// planes never cut into it... except seed-protecting ones; see violation of its support).
+  Eigen::Matrix3d ellipsoid_C = Eigen::Matrix3d::Identity();
   Eigen::Vector3d ellipsoid_d = Eigen::Vector3d::Zero();
   bool clearance_reduced = false;
 
@@ -45,7 +48,7 @@ struct Polytope {
 
 struct CorridorConfig {
   double clearance_m = 0.3;        ///< obstacles stay this far outside (the vehicle radius)
-  double box_margin_m = 2.0;       ///< each polytope lies in the seed's bounding box + margin
+  double box_margin_m = 1.0;       ///< each polytope lies in the seed's bounding box + margin
   double max_seed_length_m = 4.0;  ///< longer path segments are split into several seeds
   int iterations = 2;              ///< half-space / ellipsoid alternations
   double initial_radius_m = 0.3;   ///< cross radius of the first ellipsoid around the seed

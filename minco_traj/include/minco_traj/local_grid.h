@@ -71,9 +71,14 @@ class LocalGrid {
   /// Not traversable: outside, inflated, or unknown when !unknown_is_free.
   bool isBlocked(const VoxelKey& k, bool unknown_is_free) const;
 
-  /// Centres of occupied cells whose centres lie in [lo, hi].
+  /// Centres of occupied cells whose centres lie in [lo, hi]. With surface_only, cells whose six
+  /// face neighbours are all occupied are left out (they cannot be nearer to free space than
+  /// their neighbours by more than one cell).
   void occupiedCentersInBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                            std::vector<Eigen::Vector3d>& out) const;
+                            std::vector<Eigen::Vector3d>& out, bool surface_only = false) const;
+  /// Ring-buffer slot of an in-window key, in [0, cellCount()): for planners' scratch arrays.
+  size_t slot(const VoxelKey& k) const { return index(k); }
+  size_t cellCount() const { return occupied_.size(); }
   size_t occupiedCount() const;
 
  private:
@@ -81,12 +86,14 @@ class LocalGrid {
   void updateCell(size_t idx, const VoxelKey& k, float delta);
   void stampInflation(const VoxelKey& k, int sign);
   void recomputeInflation();
+  bool isInterior(const VoxelKey& k) const;
 
   LocalGridConfig cfg_;
   int nx_ = 0, ny_ = 0, nz_ = 0;
   VoxelKey min_key_;
   std::vector<float> logodds_;
   std::vector<uint8_t> observed_;
+  std::vector<uint8_t> occupied_;  ///< cached observed && logodds > threshold
   std::vector<uint16_t> inflation_;
   std::vector<uint32_t> scan_stamp_;
   uint32_t scan_id_ = 0;
