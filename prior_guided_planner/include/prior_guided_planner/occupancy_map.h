@@ -1,0 +1,184 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// Sparse occupancy of the explored space for the planner's collision checks, line-of-sight tests
+// and path search. Cells live in hashed blocks of 8 x 8 x 8 (only blocks that a ray touched
+// exist), so memory grows with the explored volume, never with a bounding box: a 2 km cave
+// fits. Each registered scan is ray cast from the sensor origin (Amanatides-Woo traversal):
+// log-odds misses along the ray, a hit at the end point. Every cell is updated at most once per
+// scan (a per-cell scan stamp), and hits win over misses within one scan, as in OctoMap.
+// Inflation by the vehicle radius is a query (isSafe), not a stored layer, so it never has to be
+// undone when a cell is cleared. Cell boundaries follow efs::toVoxelKey.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <limits>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "efs_common/voxel_key.h"
+
+namespace efs::planner {
+
+/// Calls f(key) for each cell the segment a -> b passes through, from the cell of `a` up to but
+/// excluding the cell of `b` (Amanatides-Woo). Stops early when f returns false; returns false
+/// then. Exactly |dk|_1 cells are visited, so the walk ends even with rounding.
+template <typename F>
+bool forEachCellOnSegment(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m,
+                          double resolution_m, F&& f) {
+  VoxelKey k = toVoxelKey(a_m, resolution_m);
+  const VoxelKey kb = toVoxelKey(b_m, resolution_m);
+  const Eigen::Vector3d d = b_m - a_m;
+  int step[3];
+  double t_max[3], t_delta[3];
+  const int32_t ka[3] = {k.x, k.y, k.z};
+  for (int i = 0; i < 3; ++i) {
+    if (d[i] > 0.0) {
+      step[i] = 1;
+      t_max[i] = ((ka[i] + 1) * resolution_m - a_m[i]) / d[i];
+      t_delta[i] = resolution_m / d[i];
+    } else if (d[i] < 0.0) {
+      step[i] = -1;
+      t_max[i] = (ka[i] * resolution_m - a_m[i]) / d[i];
+      t_delta[i] = -resolution_m / d[i];
+    } else {
+      step[i] = 0;
+      t_max[i] = t_delta[i] = std::numeric_limits<double>::infinity();
+    }
+  }
+  const int64_t n = std::abs(int64_t(kb.x) - k.x) + std::abs(int64_t(kb.y) - k.y) +
+                    std::abs(int64_t(kb.z) - k.z);
+  int32_t* kk[3] = {&k.x, &k.y, &k.z};
+  for (int64_t s = 0; s < n; ++s) {
+    if (!f(static_cast<const VoxelKey&>(k))) return false;
+    int axis = t_max[0] < t_max[1] ? (t_max[0] < t_max[2] ? 0 : 2) : (t_max[1] < t_max[2] ? 1 : 2);
+    // A zero step can only be picked by rounding at the very end of the walk; take another axis.
+    if (step[axis] == 0) axis = step[0] ? 0 : (step[1] ? 1 : 2);
+    *kk[axis] += step[axis];
+    t_max[axis] += t_delta[axis];
+  }
+  return true;
+}
+
+struct OccupancyConfig {
+  double resolution_m = 0.3;
+  /// Points farther than this clear free space up to this range and leave no hit.
+  double max_range_m = 40.0;
+  /// Points closer than this are the vehicle itself and are ignored.
+  double min_range_m = 0.3;
+  double log_odds_hit = 0.85;
+  double log_odds_miss = -0.4;
+  double log_odds_min = -2.0;
+  double log_odds_max = 3.5;
+  /// Known cells above this log-odds are occupied, the others free.
+  double log_odds_occupied = 0.0;
+  void validate() const;
+};
+
+enum class OccupancyState : uint8_t { kUnknown, kFree, kOccupied };
+
+/// What one scan did; rejected points are counted, never silently dropped.
+struct OccupancyUpdateStats {
+  size_t points_in = 0;
+  size_t points_rejected_nonfinite = 0;  ///< NaN / inf coordinates
+  size_t points_rejected_too_close = 0;  ///< within min_range_m of the sensor
+  size_t points_clipped = 0;             ///< beyond max_range_m: free space only
+  size_t rays_cast = 0;                  ///< after merging rays ending in the same cell
+  size_t cells_traversed = 0;
+  size_t blocks_changed = 0;  ///< blocks in which some cell changed its state
+  bool rejected_scan = false; ///< non-finite sensor origin: nothing inserted
+};
+
+class OccupancyMap {
+ public:
+  static constexpr int kBlockBits = 3;
+  static constexpr int kBlockSize = 1 << kBlockBits;  ///< cells per block edge
+  static constexpr int kBlockCells = kBlockSize * kBlockSize * kBlockSize;
+
+  explicit OccupancyMap(OccupancyConfig config = {});
+
+  const OccupancyConfig& config() const { return config_; }
+  double resolution() const { return config_.resolution_m; }
+  VoxelKey key(const Eigen::Vector3d& p_world_m) const {
+    return toVoxelKey(p_world_m, config_.resolution_m);
+  }
+  Eigen::Vector3d center(const VoxelKey& k) const { return voxelCenter(k, config_.resolution_m); }
+  static VoxelKey blockOf(const VoxelKey& cell) {
+    return {cell.x >> kBlockBits, cell.y >> kBlockBits, cell.z >> kBlockBits};
+  }
+
+  /// Integrates one registered scan (world-frame points, world-frame sensor origin).
+  OccupancyUpdateStats insertScan(const Eigen::Vector3d& sensor_origin_world_m,
+                                  const std::vector<Eigen::Vector3d>& points_world_m);
+
+  OccupancyState state(const VoxelKey& k) const;
+  OccupancyState stateAt(const Eigen::Vector3d& p_world_m) const { return state(key(p_world_m)); }
+  bool isOccupied(const VoxelKey& k) const { return state(k) == OccupancyState::kOccupied; }
+  bool isFree(const VoxelKey& k) const { return state(k) == OccupancyState::kFree; }
+  bool isUnknown(const VoxelKey& k) const { return state(k) == OccupancyState::kUnknown; }
+
+  /// True when the ball of `radius_m` around `p_world_m` touches no occupied cell and the cell
+  /// at its centre is free (or unknown, when `unknown_is_safe`). This is the inflated query.
+  bool isSafe(const Eigen::Vector3d& p_world_m, double radius_m, bool unknown_is_safe) const;
+  /// isSafe at samples every half cell along the segment (end points included).
+  bool segmentSafe(const Eigen::Vector3d& a_world_m, const Eigen::Vector3d& b_world_m,
+                   double radius_m, bool unknown_is_safe) const;
+  /// True when no occupied cell (and no unknown one, when `unknown_blocks`) lies on the voxel
+  /// traversal from `from` to `to`, both end cells excluded: a sensor at `from` sees `to`.
+  bool lineOfSight(const Eigen::Vector3d& from_world_m, const Eigen::Vector3d& to_world_m,
+                   bool unknown_blocks) const;
+
+  size_t numBlocks() const { return blocks_.size(); }
+  size_t numKnownCells() const { return known_cells_; }
+  /// Heap bytes of the block store (blocks + hash table), an estimate for benchmarks.
+  size_t memoryBytes() const;
+  /// Incremented by every insertScan that changed some cell's state.
+  uint64_t revision() const { return revision_; }
+  /// Blocks (block keys) in which a cell changed state during the last insertScan.
+  const std::vector<VoxelKey>& lastChangedBlocks() const { return changed_blocks_; }
+  /// Whether the last insertScan turned some unknown/occupied cell free, or some cell occupied.
+  bool lastScanAddedFree() const { return last_added_free_; }
+  bool lastScanAddedOccupied() const { return last_added_occupied_; }
+
+ private:
+  struct Cell {
+    int8_t log_odds = kUnknownValue;
+    uint8_t stamp = 0;
+  };
+  struct Block {
+    Cell cells[kBlockCells];
+    uint8_t changed_stamp = 0;
+  };
+  static constexpr int8_t kUnknownValue = -128;
+
+  Block* findBlock(const VoxelKey& block_key) const;
+  Block& touchBlock(const VoxelKey& block_key);
+  static int localIndex(const VoxelKey& cell) {
+    return (cell.x & (kBlockSize - 1)) |
+           ((cell.y & (kBlockSize - 1)) << kBlockBits) |
+           ((cell.z & (kBlockSize - 1)) << (2 * kBlockBits));
+  }
+  OccupancyState classify(int8_t v) const {
+    if (v == kUnknownValue) return OccupancyState::kUnknown;
+    return v > occupied_q_ ? OccupancyState::kOccupied : OccupancyState::kFree;
+  }
+  void updateCell(Block& b, const VoxelKey& block_key, const VoxelKey& cell, bool hit);
+
+  OccupancyConfig config_;
+  // Log-odds are stored as int8 in units of kQuantum to keep a block at 1 KiB.
+  static constexpr double kQuantum = 0.05;
+  int hit_q_, miss_q_, min_q_, max_q_, occupied_q_;
+  std::unordered_map<VoxelKey, std::unique_ptr<Block>, VoxelKeyHash> blocks_;
+  uint8_t scan_stamp_ = 0;
+  uint64_t revision_ = 0;
+  size_t known_cells_ = 0;
+  std::vector<VoxelKey> changed_blocks_;
+  bool last_added_free_ = false;
+  bool last_added_occupied_ = false;
+  friend class BlockCursor;
+};
+
+}  // namespace efs::planner
