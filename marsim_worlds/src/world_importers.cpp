@@ -309,23 +309,61 @@ void paintScene(const Scene& scene, int point_dilation_voxels, VoxelWorld& world
 }
 
 /// Deterministic start: enclosed, clear, with the most room (to 2 m), closest to the centre.
+/// Deterministic start: in the largest connected free region at the start height that does not
+/// reach the grid's border (the inside of the building or mine, not the open space around it,
+/// nor the hollow inside of a meshed rock pillar), clear of obstacles, with the most room (to
+/// 2 m), closest to the centre of the exploration box.
 StartPose pickStart(const VoxelWorld& world, const ImportConfig& cfg) {
   const Box3 box = world.bounds();
   const double z = box.min().z() + std::min(cfg.start_height_m, 0.5 * box.sizes().z());
-  const double step = std::max(1.0, std::max(box.sizes().x(), box.sizes().y()) / 300.0);
+  const int vz = world.voxelOf({box.min().x(), box.min().y(), z}).z();
+  const int nx = world.dimsVoxels().x(), ny = world.dimsVoxels().y();
+  std::vector<int> label(static_cast<size_t>(nx) * ny, -1);
+  std::vector<size_t> sizes;
+  std::vector<uint8_t> touches_border;
+  std::vector<int> stack;
+  for (int y0 = 0; y0 < ny; ++y0) {
+    for (int x0 = 0; x0 < nx; ++x0) {
+      const size_t i0 = static_cast<size_t>(y0) * nx + x0;
+      if (label[i0] >= 0 || world.occupied({x0, y0, vz})) continue;
+      const int id = static_cast<int>(sizes.size());
+      sizes.push_back(0);
+      touches_border.push_back(0);
+      label[i0] = id;
+      stack.assign(1, static_cast<int>(i0));
+      while (!stack.empty()) {
+        const int i = stack.back();
+        stack.pop_back();
+        const int x = i % nx, y = i / nx;
+        ++sizes[static_cast<size_t>(id)];
+        if (x == 0 || y == 0 || x == nx - 1 || y == ny - 1) touches_border[static_cast<size_t>(id)] = 1;
+        const int nb[4][2] = {{x + 1, y}, {x - 1, y}, {x, y + 1}, {x, y - 1}};
+        for (const auto& n : nb) {
+          if (n[0] < 0 || n[1] < 0 || n[0] >= nx || n[1] >= ny) continue;
+          const size_t j = static_cast<size_t>(n[1]) * nx + n[0];
+          if (label[j] >= 0 || world.occupied({n[0], n[1], vz})) continue;
+          label[j] = id;
+          stack.push_back(static_cast<int>(j));
+        }
+      }
+    }
+  }
+  int inside = -1;
+  for (size_t id = 0; id < sizes.size(); ++id) {
+    if (!touches_border[id] && (inside < 0 || sizes[id] > sizes[static_cast<size_t>(inside)])) {
+      inside = static_cast<int>(id);
+    }
+  }
+  const double step = std::max(0.5, std::max(box.sizes().x(), box.sizes().y()) / 150.0);
   const Eigen::Vector2d centre = box.center().head<2>();
   double best_room = -1.0, best_dist = 0.0;
   StartPose best;
-  for (double y = box.min().y() + 0.5 * step; y < box.max().y(); y += step) {
+  for (double y = box.min().y() + 0.5 * step; inside >= 0 && y < box.max().y(); y += step) {
     for (double x = box.min().x() + 0.5 * step; x < box.max().x(); x += step) {
       const Eigen::Vector3d p(x, y, z);
+      const Eigen::Vector3i v = world.voxelOf(p);
+      if (!world.inGrid(v) || label[static_cast<size_t>(v.y()) * nx + v.x()] != inside) continue;
       if (world.collides(p, cfg.start_clearance_m)) continue;
-      int hits = 0;
-      for (int k = 0; k < 8; ++k) {
-        const double a = k * M_PI / 4.0;
-        hits += std::isfinite(world.castRay(p, {std::cos(a), std::sin(a), 0.0}, 200.0));
-      }
-      if (hits < 8) continue;
       const double room = std::floor(world.clearance(p, 2.0) / world.resolution());
       const double dist = (p.head<2>() - centre).norm();
       if (room > best_room || (room == best_room && dist < best_dist)) {
