@@ -130,15 +130,22 @@ AStarResult AStarPlanner::plan(const LocalGrid& grid, const Eigen::Vector3d& sta
   nodes.reserve(4096);
   std::unordered_map<VoxelKey, int, VoxelKeyHash> index;
   index.reserve(8192);
-  using QE = std::pair<double, int>;  // (f, node)
+  // Ties in f are broken toward larger g (deeper nodes): in open space many cells share the same
+  // f, and preferring the deepest one avoids expanding the whole tie plateau. Optimality is kept
+  // because the order among equal f does not matter for a consistent heuristic.
+  struct QE {
+    double f, g;
+    int node;
+    bool operator>(const QE& o) const { return f > o.f || (f == o.f && g < o.g); }
+  };
   std::priority_queue<QE, std::vector<QE>, std::greater<QE>> open;
   nodes.push_back({sk, 0.0, -1, false});
   index[sk] = 0;
-  open.push({octile(sk, gk), 0});
+  open.push({octile(sk, gk), 0.0, 0});
   static const double kStep[4] = {0.0, 1.0, std::sqrt(2.0), std::sqrt(3.0)};
   int found = -1;
   while (!open.empty()) {
-    const auto [f, ni] = open.top();
+    const int ni = open.top().node;
     open.pop();
     if (nodes[ni].closed) continue;
     nodes[ni].closed = true;
@@ -172,7 +179,7 @@ AStarResult AStarPlanner::plan(const LocalGrid& grid, const Eigen::Vector3d& sta
             nodes[idx].g = ng;
             nodes[idx].parent = ni;
           }
-          open.push({ng + octile(nk, gk), idx});
+          open.push({ng + octile(nk, gk), ng, idx});
         }
   }
   if (found < 0) {

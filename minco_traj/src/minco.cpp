@@ -56,14 +56,18 @@ void BandedSystem::solveTranspose(Eigen::MatrixXd& b) const {
 namespace {
 // Row of d^order/dt^order [1 t t^2 t^3 t^4 t^5] at t.
 inline void basis(double t, int order, double out[6]) {
+  // Falling factorials k!/(k-order)! for order 0..5.
+  static const double kFall[6][6] = {{1, 1, 1, 1, 1, 1},     {0, 1, 2, 3, 4, 5},
+                                     {0, 0, 2, 6, 12, 20},   {0, 0, 0, 6, 24, 60},
+                                     {0, 0, 0, 0, 24, 120},  {0, 0, 0, 0, 0, 120}};
+  double tp = 1.0;
   for (int k = 0; k < 6; ++k) {
     if (k < order) {
       out[k] = 0.0;
       continue;
     }
-    double f = 1.0;
-    for (int m = 0; m < order; ++m) f *= (k - m);
-    out[k] = f * std::pow(t, k - order);
+    out[k] = kFall[order][k] * tp;
+    tp *= t;
   }
 }
 }  // namespace
@@ -153,7 +157,8 @@ void MincoS3::addEnergyGrad(Eigen::MatrixXd& gc, Eigen::VectorXd& gT) const {
 
 void MincoS3::propagateGrad(const Eigen::MatrixXd& gc, const Eigen::VectorXd& gT_explicit,
                             Eigen::Matrix3Xd& gq, Eigen::VectorXd& gT) const {
-  Eigen::MatrixXd G = gc;
+  Eigen::MatrixXd& G = adjoint_;
+  G = gc;
   A_.solveTranspose(G);
   gq.resize(3, n_ - 1);
   gT = gT_explicit;

@@ -67,6 +67,10 @@ MincoCorridorCost::MincoCorridorCost(const TrajOptConfig& cfg, const Eigen::Matr
       piece_polytope_(piece_polytope),
       n_(static_cast<int>(piece_polytope.size())) {
   minco_.setConditions(head, tail, n_);
+  for (const auto& poly : corridor_) {  // column-wise normals and margin-shifted offsets
+    normals_t_.push_back(poly.A.transpose());
+    offsets_margin_.push_back(poly.b.array() - cfg_.corridor_margin_m);
+  }
 }
 
 Eigen::VectorXd MincoCorridorCost::pack(const Eigen::Matrix3Xd& q, const Eigen::VectorXd& T) const {
@@ -105,9 +109,11 @@ double MincoCorridorCost::operator()(const Eigen::VectorXd& x, Eigen::VectorXd& 
                wa = cfg_.weight_acceleration * penalty_scale_;
   double b0[6], b1[6], b2[6], b3[6];
   for (int i = 0; i < n_; ++i) {
-    const Polytope& poly = corridor_[piece_polytope_[i]];
+    const Eigen::Matrix<double, 3, Eigen::Dynamic>& At = normals_t_[piece_polytope_[i]];
+    const Eigen::VectorXd& bm = offsets_margin_[piece_polytope_[i]];
+    const int planes = static_cast<int>(bm.size());
+    const Eigen::Matrix<double, 6, 3> ci = c.middleRows<6>(6 * i);
     const double T = T_(i);
-    const auto ci = c.middleRows<6>(6 * i);
     for (int j = 0; j <= K; ++j) {
       const double s = double(j) / K, t = s * T;
       const double omega = (j == 0 || j == K) ? 0.5 : 1.0;
@@ -116,22 +122,17 @@ double MincoCorridorCost::operator()(const Eigen::VectorXd& x, Eigen::VectorXd& 
       b1[0] = 0; b1[1] = 1; b1[2] = 2 * t; b1[3] = 3 * t2; b1[4] = 4 * t3; b1[5] = 5 * t4;
       b2[0] = 0; b2[1] = 0; b2[2] = 2; b2[3] = 6 * t; b2[4] = 12 * t2; b2[5] = 20 * t3;
       b3[0] = 0; b3[1] = 0; b3[2] = 0; b3[3] = 6; b3[4] = 24 * t; b3[5] = 60 * t2;
-      Eigen::Vector3d p = Eigen::Vector3d::Zero(), v = p, a = p, jk = p;
-      for (int k = 0; k < 6; ++k) {
-        const Eigen::Vector3d ck = ci.row(k).transpose();
-        p += b0[k] * ck;
-        v += b1[k] * ck;
-        a += b2[k] * ck;
-        jk += b3[k] * ck;
-      }
+      const Eigen::Vector3d p = ci.transpose() * Eigen::Map<const Eigen::Matrix<double, 6, 1>>(b0);
+      const Eigen::Vector3d v = ci.transpose() * Eigen::Map<const Eigen::Matrix<double, 6, 1>>(b1);
+      const Eigen::Vector3d a = ci.transpose() * Eigen::Map<const Eigen::Matrix<double, 6, 1>>(b2);
+      const Eigen::Vector3d jk = ci.transpose() * Eigen::Map<const Eigen::Matrix<double, 6, 1>>(b3);
       Eigen::Vector3d gp = Eigen::Vector3d::Zero(), gv = gp, ga = gp;
       double pen = 0.0, dphi;
-      for (int h = 0; h < poly.A.rows(); ++h) {
-        const Eigen::Vector3d nrm = poly.A.row(h).transpose();
-        const double viol = nrm.dot(p) - poly.b(h) + cfg_.corridor_margin_m;
+      for (int h = 0; h < planes; ++h) {
+        const double viol = At(0, h) * p.x() + At(1, h) * p.y() + At(2, h) * p.z() - bm(h);
         if (viol <= 0.0) continue;
         pen += wc * smoothL1(viol, eps, &dphi);
-        gp += wc * dphi * nrm;
+        gp += wc * dphi * At.col(h);
       }
       const double vv = v.squaredNorm() - vpen2;
       if (vv > 0.0) {

@@ -21,7 +21,7 @@ struct LbfgsConfig {
   /// Stop when |g|_inf <= g_tol * max(1, |x|_inf).
   double g_tol = 1e-6;
   /// Stop when the cost decreased by less than this fraction over `past` iterations.
-  double rel_cost_tol = 1e-6;
+  double rel_cost_tol = 1e-4;
   int past = 3;
   void validate() const;
 };

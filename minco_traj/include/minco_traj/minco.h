@@ -71,6 +71,7 @@ class MincoS3 {
   Eigen::VectorXd T_;
   Eigen::MatrixXd b_, c_;
   BandedSystem A_;
+  mutable Eigen::MatrixXd adjoint_;  ///< scratch for propagateGrad (no allocation per call)
 };
 
 }  // namespace efs::traj

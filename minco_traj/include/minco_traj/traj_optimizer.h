@@ -34,7 +34,7 @@ struct TrajOptConfig {
   double penalty_velocity_fraction = 0.97;
   double penalty_acceleration_fraction = 0.95;
   double corridor_margin_m = 0.02;    ///< penalties keep samples this far inside
-  int samples_per_piece = 16;
+  int samples_per_piece = 12;
   double max_piece_length_m = 3.0;    ///< long seeds get several pieces in their polytope
   double initial_speed_fraction = 0.6;
   int max_retries = 2;
@@ -87,6 +87,8 @@ class MincoCorridorCost {
   TrajOptConfig cfg_;
   const std::vector<Polytope>& corridor_;
   std::vector<int> piece_polytope_;
+  std::vector<Eigen::Matrix<double, 3, Eigen::Dynamic>> normals_t_;
+  std::vector<Eigen::VectorXd> offsets_margin_;
   int n_;
   MincoS3 minco_;
   double penalty_scale_ = 1.0;
