@@ -1,0 +1,90 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// The local trajectory pipeline of paper Sec. VI-E in one call: A* front end on the local grid ->
+// safe flight corridor -> MINCO spatio-temporal optimisation -> yaw toward the look-at point ->
+// final feasibility check. Whatever fails, the result carries a trajectory that is safe to fly
+// from the current state: the optimised one, or an emergency stop (brake at the acceleration
+// limit) with the reason. Also the collision prediction used to trigger replanning when new
+// scans reveal obstacles on the current trajectory.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+
+#include "minco_traj/astar.h"
+#include "minco_traj/corridor.h"
+#include "minco_traj/local_grid.h"
+#include "minco_traj/traj_optimizer.h"
+#include "minco_traj/trajectory.h"
+#include "minco_traj/yaw_planner.h"
+
+namespace efs::traj {
+
+struct LocalPlannerConfig {
+  AStarConfig astar;
+  CorridorConfig corridor;
+  TrajOptConfig optimizer;
+  YawPlannerConfig yaw;
+  /// Braking deceleration of the emergency stop; 0 uses optimizer.a_max_mps2.
+  double emergency_decel_mps2 = 0.0;
+  void validate() const;
+};
+
+struct PlanRequest {
+  Eigen::Vector3d p_world_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_world_mps = Eigen::Vector3d::Zero();
+  Eigen::Vector3d a_world_mps2 = Eigen::Vector3d::Zero();
+  double yaw_rad = 0.0;
+  double yaw_rate_radps = 0.0;
+  Eigen::Vector3d goal_world_m = Eigen::Vector3d::Zero();
+  /// Where the sensor should look (the unexplored region); the goal when unset.
+  bool has_look_at = false;
+  Eigen::Vector3d look_at_world_m = Eigen::Vector3d::Zero();
+};
+
+enum class PlanStatus {
+  kOk,
+  kBadRequest,          ///< non-finite state or goal
+  kStartInCollision,    ///< no escape from the start within the escape radius
+  kGoalUnreachable,     ///< goal refused or no path (front_end.status says which)
+  kCorridorFailed,      ///< the seed path could not be enclosed
+  kOptimizationFailed   ///< no trajectory passed the final check
+};
+const char* toString(PlanStatus s);
+
+struct PlanResult {
+  PlanStatus status = PlanStatus::kBadRequest;
+  std::string message;
+  /// Always flyable: the plan, or an emergency stop if status != kOk.
+  Trajectory trajectory;
+  bool emergency_stop = false;
+  bool goal_adjusted = false;
+  bool start_escaped = false;
+  AStarResult front_end;
+  CorridorResult corridor;
+  TrajOptResult optimization;
+  bool ok() const { return status == PlanStatus::kOk; }
+};
+
+class LocalPlanner {
+ public:
+  explicit LocalPlanner(const LocalPlannerConfig& cfg = {});
+  const LocalPlannerConfig& config() const { return cfg_; }
+  PlanResult plan(const LocalGrid& grid, const PlanRequest& req) const;
+
+  /// First time in [t_from_s, t_from_s + horizon_s] at which the trajectory enters an occupied
+  /// cell, sampled every dt_s; negative if none (the replanning trigger on new scans).
+  static double firstCollisionTime(const Trajectory& traj, const LocalGrid& grid, double t_from_s,
+                                   double horizon_s, double dt_s = 0.02);
+
+ private:
+  PlanResult fail(PlanStatus s, const std::string& msg, const PlanRequest& req,
+                  PlanResult&& partial) const;
+  LocalPlannerConfig cfg_;
+  AStarPlanner astar_;
+  CorridorBuilder corridor_;
+  TrajOptimizer optimizer_;
+  YawPlanner yaw_;
+};
+
+}  // namespace efs::traj

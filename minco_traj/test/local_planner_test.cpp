@@ -1,0 +1,159 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include <gtest/gtest.h>
+
+#include <limits>
+
+#include "efs_common/config_check.h"
+#include "minco_traj/local_planner.h"
+
+namespace efs::traj {
+namespace {
+
+// A 12 x 12 x 3 m room split by a wall at x = 0 with a door around y = 1.
+LocalGrid doorWorld() {
+  LocalGridConfig gc;
+  gc.size_x_m = 12;
+  gc.size_y_m = 12;
+  gc.size_z_m = 3;
+  gc.inflation_radius_m = 0.3;
+  LocalGrid grid(gc, Eigen::Vector3d(0, 0, 1));
+  grid.setAllFree();
+  for (double y = -6; y < 6; y += 0.1)
+    for (double z = -1; z < 3; z += 0.1)
+      if (std::abs(y - 1.0) > 0.7) grid.setOccupied({0.05, y, z});
+  return grid;
+}
+
+double minObstacleDistance(const LocalGrid& grid, const Trajectory& tr) {
+  std::vector<Eigen::Vector3d> occ;
+  grid.occupiedCentersInBox(grid.windowMin(), grid.windowMax(), occ);
+  double dmin = 1e9;
+  for (double t = 0; t <= tr.duration(); t += 0.02) {
+    const Eigen::Vector3d p = tr.position(t);
+    for (const auto& o : occ) dmin = std::min(dmin, (o - p).norm());
+  }
+  return dmin;
+}
+
+TEST(LocalPlanner, ThroughTheDoorSafelyAndWithinLimits) {
+  const LocalGrid grid = doorWorld();
+  LocalPlanner planner;
+  PlanRequest req;
+  req.p_world_m = {-3, -2, 1};
+  req.goal_world_m = {3, -2, 1};
+  req.look_at_world_m = {5, -2, 1};
+  req.has_look_at = true;
+  const PlanResult r = planner.plan(grid, req);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_FALSE(r.emergency_stop);
+  const Trajectory& tr = r.trajectory;
+  EXPECT_LT((tr.position(tr.duration()) - req.goal_world_m).norm(), 1e-6);
+  EXPECT_LE(tr.maxSpeed(0.005), planner.config().optimizer.v_max_mps * 1.02);
+  EXPECT_LE(tr.maxAcceleration(0.005), planner.config().optimizer.a_max_mps2);
+  // Clearance from every occupied cell centre is kept (up to the corridor tolerance).
+  EXPECT_GE(minObstacleDistance(grid, tr), planner.config().corridor.clearance_m - 2e-3);
+  EXPECT_LT(LocalPlanner::firstCollisionTime(tr, grid, 0.0, 100.0), 0.0);
+  // The sensor ends up looking at the look-at point.
+  EXPECT_NEAR(tr.sample(tr.duration() + 5.0).yaw_rad, 0.0, 1e-9);
+  double y, rate, acc;
+  for (double t = 0; t < tr.duration(); t += 0.01) {
+    tr.yaw().sample(t, &y, &rate, &acc);
+    EXPECT_LE(std::abs(rate), planner.config().yaw.yaw_rate_max_radps + 1e-9);
+  }
+}
+
+TEST(LocalPlanner, PredictsCollisionWithNewObstacles) {
+  LocalGrid grid = doorWorld();
+  PlanRequest req;
+  req.p_world_m = {-3, -2, 1};
+  req.goal_world_m = {3, -2, 1};
+  const PlanResult r = LocalPlanner().plan(grid, req);
+  ASSERT_TRUE(r.ok());
+  const Eigen::Vector3d blocker = r.trajectory.position(0.5 * r.trajectory.duration());
+  grid.setOccupied(blocker);
+  const double t_hit = LocalPlanner::firstCollisionTime(r.trajectory, grid, 0.0, 100.0);
+  EXPECT_GT(t_hit, 0.0);
+  EXPECT_LT(t_hit, 0.5 * r.trajectory.duration() + 0.05);
+  EXPECT_LT(LocalPlanner::firstCollisionTime(r.trajectory, grid, 0.0, 0.2 * r.trajectory.duration()),
+            0.0);  // beyond the horizon: no trigger yet
+}
+
+TEST(LocalPlanner, MovingStartAndGoalInsideObstacle) {
+  const LocalGrid grid = doorWorld();
+  PlanRequest req;
+  req.p_world_m = {-3, -2, 1};
+  req.v_world_mps = {1.5, 0.5, 0};
+  req.goal_world_m = {0.05, -3, 1};  // inside the wall: moved to the nearest free cell
+  LocalPlannerConfig cfg;
+  cfg.astar.goal_search_radius_m = 0.5;
+  const PlanResult r = LocalPlanner(cfg).plan(grid, req);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_TRUE(r.goal_adjusted);
+  EXPECT_LT((r.trajectory.velocity(0) - req.v_world_mps).norm(), 1e-9);
+  EXPECT_LT(LocalPlanner::firstCollisionTime(r.trajectory, grid, 0.0, 100.0), 0.0);
+}
+
+TEST(LocalPlanner, StartInCollisionEscapesOrStops) {
+  const LocalGrid grid = doorWorld();
+  PlanRequest req;
+  req.p_world_m = {-0.2, -2, 1};  // 0.25 m from the wall centres: inside the inflation
+  req.goal_world_m = {-3, -2, 1};
+  PlanResult r = LocalPlanner().plan(grid, req);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_TRUE(r.start_escaped);
+  EXPECT_LT(LocalPlanner::firstCollisionTime(r.trajectory, grid, 0.0, 100.0), 0.0);
+
+  LocalPlannerConfig strict;
+  strict.astar.start_escape_radius_m = 0.05;
+  req.v_world_mps = {-1.0, 0, 0};
+  r = LocalPlanner(strict).plan(grid, req);
+  EXPECT_EQ(r.status, PlanStatus::kStartInCollision);
+  EXPECT_TRUE(r.emergency_stop);
+  ASSERT_FALSE(r.trajectory.empty());
+  EXPECT_LT(r.trajectory.velocity(r.trajectory.duration()).norm(), 1e-9);  // brakes to rest
+}
+
+TEST(LocalPlanner, RefusalsCarryAnEmergencyStop) {
+  const LocalGrid grid = doorWorld();
+  PlanRequest req;
+  req.p_world_m = {-3, -2, 1};
+  req.v_world_mps = {2, 0, 0};
+  req.goal_world_m = {std::numeric_limits<double>::quiet_NaN(), 0, 0};
+  PlanResult r = LocalPlanner().plan(grid, req);
+  EXPECT_EQ(r.status, PlanStatus::kBadRequest);
+  EXPECT_TRUE(r.emergency_stop);
+  EXPECT_NEAR(r.trajectory.durations()[0], 2.0 / 6.0, 1e-12);
+  // Goal enclosed (wall without a door): no path.
+  LocalGrid closed = doorWorld();
+  for (double y = 0; y < 2.1; y += 0.1)
+    for (double z = -1; z < 3; z += 0.1) closed.setOccupied({0.05, y, z});
+  req.goal_world_m = {3, -2, 1};
+  r = LocalPlanner().plan(closed, req);
+  EXPECT_EQ(r.status, PlanStatus::kGoalUnreachable);
+  EXPECT_TRUE(r.emergency_stop);
+}
+
+TEST(LocalPlanner, AlreadyAtGoalGivesAShortHold) {
+  const LocalGrid grid = doorWorld();
+  PlanRequest req;
+  req.p_world_m = {-3, -2, 1};
+  req.goal_world_m = req.p_world_m;
+  const PlanResult r = LocalPlanner().plan(grid, req);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_LT(r.trajectory.maxSpeed(0.01), 0.05);
+  EXPECT_LT((r.trajectory.position(r.trajectory.duration()) - req.p_world_m).norm(), 1e-9);
+}
+
+TEST(LocalPlanner, ConfigValidationReachesNestedKeys) {
+  LocalPlannerConfig cfg;
+  cfg.optimizer.a_max_mps2 = 0.0;
+  try {
+    cfg.validate();
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("traj_opt.a_max_mps2"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace efs::traj
