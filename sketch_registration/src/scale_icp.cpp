@@ -23,12 +23,20 @@ void ScaleIcpConfig::validate() const {
   requireThat(scale_max >= scale_min, "scale_max", "must be >= scale_min");
   requireInRange("max_scale_step", max_scale_step, 0.0, 10.0);
   requirePositive("convergence_m", convergence_m);
+  requirePositive("anneal_when_moved_m", anneal_when_moved_m);
   requireInRange("fitness_trim_ratio", fitness_trim_ratio, 0.05, 1.0);
   requirePositive("inlier_distance_m", inlier_distance_m);
   requireInRange("min_inlier_ratio", min_inlier_ratio, 0.0, 1.0);
   requireInRange("sketch_margin_m", sketch_margin_m, 0.0, 1e6);
   requireInRange("min_points", min_points, 1, 1000000);
+  requireInRange("min_inside_ratio", min_inside_ratio, 0.0, 1.0);
   requireInRange("reverse_range_m", reverse_range_m, 0.0, 1e4);
+  requireInRange("coarse_yaw_steps", coarse_yaw_steps, 0, 100);
+  requireInRange("coarse_yaw_step_rad", coarse_yaw_step_rad, 0.0, M_PI);
+  requireInRange("coarse_scale_steps", coarse_scale_steps, 0, 100);
+  requireInRange("coarse_scale_step", coarse_scale_step, 0.0, 0.9);
+  requireInRange("coarse_points", coarse_points, 10, 1000000);
+  requirePositive("coarse_truncation_m", coarse_truncation_m);
 }
 
 ScaleIcp::ScaleIcp(const Points2d& sketch_points_m, const ScaleIcpConfig& config)
@@ -70,6 +78,84 @@ std::pair<double, double> trimmedMean(std::vector<double>& d, double ratio, doub
 }
 }  // namespace
 
+Sim2 ScaleIcp::coarseSearch(const Sim2& T0, const Points2d& observed,
+                            const ObservedIndex* reverse) const {
+  const size_t n = std::min(observed.size(), static_cast<size_t>(config_.coarse_points));
+  const double step = static_cast<double>(observed.size()) / static_cast<double>(n);
+  Points2d sample;
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (size_t i = 0; i < n; ++i) {
+    sample.push_back(observed[static_cast<size_t>(i * step)]);
+    centroid += sample.back();
+  }
+  centroid /= static_cast<double>(n);
+  const double cap = config_.coarse_truncation_m;
+  auto cost = [&](const Sim2& T) {
+    const Sim2 inv = T.inverse();
+    double sum = 0.0;
+    for (const auto& p : sample) {
+      const Eigen::Vector2d q = inv.apply(p);
+      if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) {
+        sum += cap;
+        continue;
+      }
+      sum += std::min(cap, T.scale * std::sqrt(tree_.nearest(q).second));
+    }
+    double cost = sum / static_cast<double>(sample.size());
+    // One-sided distances favour a smaller scale (denser sketch walls are always near); the
+    // visible-sketch -> observation side penalises walls the LiDAR did not see.
+    if (reverse && reverse->tree && reverse->tree->size() > 0 && config_.reverse_range_m > 0.0) {
+      const Points2d visible = visibleSketch(T, reverse->robot_world_m);
+      if (!visible.empty()) {
+        const double rstep = std::max(1.0, static_cast<double>(visible.size()) / sample.size());
+        double rsum = 0.0;
+        size_t rn = 0;
+        for (double k = 0; k < static_cast<double>(visible.size()); k += rstep, ++rn) {
+          const Eigen::Vector2d tc = T.apply(visible[static_cast<size_t>(k)]);
+          rsum += std::min(cap, std::sqrt(reverse->tree->nearest(tc).second));
+        }
+        cost += rsum / static_cast<double>(rn);
+      }
+    }
+    return cost;
+  };
+  Sim2 best = T0;
+  double best_cost = cost(T0);
+  for (int i = -config_.coarse_yaw_steps; i <= config_.coarse_yaw_steps; ++i) {
+    for (int j = -config_.coarse_scale_steps; j <= config_.coarse_scale_steps; ++j) {
+      if (i == 0 && j == 0) continue;
+      const double ds = 1.0 + j * config_.coarse_scale_step;
+      const double s = T0.scale * ds;
+      if (s < config_.scale_min || s > config_.scale_max) continue;
+      // Rotate and scale about the observed centroid, which stays where it is.
+      const double dyaw = i * config_.coarse_yaw_step_rad;
+      const Sim2 about(dyaw, ds, centroid - ds * (Eigen::Rotation2Dd(dyaw) * centroid));
+      const Sim2 T = about * T0;
+      const double c = cost(T);
+      if (c < best_cost) {
+        best_cost = c;
+        best = T;
+      }
+    }
+  }
+  return best;
+}
+
+Points2d ScaleIcp::visibleSketch(const Sim2& T, const Eigen::Vector2d& robot_world_m) const {
+  const Eigen::Vector2d q = T.inverse().apply(robot_world_m);
+  const double range_sketch = config_.reverse_range_m / T.scale;
+  Points2d nearby;
+  for (const auto& [idx, d2] : tree_.radius(q, range_sketch)) {
+    (void)d2;
+    nearby.push_back(tree_.points()[idx]);
+  }
+  HprConfig hpr;
+  hpr.max_range_m = range_sketch;
+  hpr.min_range_m = std::min(0.2 / T.scale, 0.5 * range_sketch);
+  hpr.point_radius_m = 0.1;
+  return hiddenPointRemoval(nearby, q, hpr);
+}
+
 IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
                              const ObservedIndex* reverse) const {
   IcpResult r;
@@ -85,6 +171,8 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
   }
   r.num_points = static_cast<int>(d.size());
   if (r.num_points < config_.min_points) return r;
+  // Observations mostly outside the sketch: the transform put the sketch somewhere else.
+  if (static_cast<double>(d.size()) < config_.min_inside_ratio * observed.size()) return r;
   const auto fwd = trimmedMean(d, config_.fitness_trim_ratio, config_.inlier_distance_m);
   r.forward_fitness_m = fwd.first;
   r.fitness_m = fwd.first;
@@ -92,18 +180,7 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
   if (reverse && reverse->tree && reverse->tree->size() > 0 && config_.reverse_range_m > 0.0) {
     // Sketch points that the robot would see under T (HPR in the sketch frame, range mapped by
     // the scale) must have been observed.
-    const Eigen::Vector2d q = inv.apply(reverse->robot_world_m);
-    const double range_sketch = config_.reverse_range_m / T.scale;
-    Points2d nearby;
-    for (const auto& [idx, d2] : tree_.radius(q, range_sketch)) {
-      (void)d2;
-      nearby.push_back(tree_.points()[idx]);
-    }
-    HprConfig hpr;
-    hpr.max_range_m = range_sketch;
-    hpr.min_range_m = std::min(0.2 / T.scale, 0.5 * range_sketch);
-    hpr.point_radius_m = 0.1;
-    const Points2d visible = hiddenPointRemoval(nearby, q, hpr);
+    const Points2d visible = visibleSketch(T, reverse->robot_world_m);
     std::vector<double> dr;
     dr.reserve(visible.size());
     for (const auto& c : visible) {
@@ -127,6 +204,10 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
   if (tree_.size() == 0 || !T.isFinite() || !(T.scale > 0.0)) {
     return evaluate(T, observed, reverse);
   }
+  if (start_correspondence_m <= 0.0 &&
+      (config_.coarse_yaw_steps > 0 || config_.coarse_scale_steps > 0) && !observed.empty()) {
+    T = coarseSearch(T, observed, reverse);
+  }
   double max_corr = start_correspondence_m > 0.0
                         ? std::max(start_correspondence_m, config_.min_correspondence_m)
                         : config_.max_correspondence_m;
@@ -144,6 +225,17 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
       if (d <= max_corr) pairs.push_back({d, tree_.points()[nn.first], p});
     }
     if (static_cast<int>(pairs.size()) < config_.min_points) break;
+    if (config_.symmetric && reverse && reverse->tree && reverse->tree->size() > 0 &&
+        config_.reverse_range_m > 0.0) {
+      // Symmetric ICP: sketch walls the robot would see under T pull toward observed points too,
+      // which keeps walls hidden in the sketch from capturing observed points.
+      for (const auto& c : visibleSketch(T, reverse->robot_world_m)) {
+        const Eigen::Vector2d tc = T.apply(c);
+        const auto nn = reverse->tree->nearest(tc);
+        const double d = std::sqrt(nn.second);
+        if (d <= max_corr) pairs.push_back({d, c, reverse->tree->points()[nn.first]});
+      }
+    }
     const size_t keep = std::max<size_t>(3, static_cast<size_t>(config_.trim_ratio * pairs.size()));
     if (keep < pairs.size()) {
       std::nth_element(pairs.begin(), pairs.begin() + static_cast<long>(keep), pairs.end(),
@@ -151,13 +243,19 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
       pairs.resize(keep);
     }
     Points2d c(pairs.size()), p(pairs.size());
+    std::vector<double> w(pairs.size());
+    // Cauchy weights whose width follows the capture radius (graduated non-convexity): wide
+    // early so that a far start is pulled in by all walls, narrow late for accuracy.
+    const double sigma2 = 0.25 * max_corr * max_corr;
     for (size_t i = 0; i < pairs.size(); ++i) {
       c[i] = pairs[i].c;
       p[i] = pairs[i].p;
+      w[i] = 1.0 / (1.0 + pairs[i].d_world * pairs[i].d_world / sigma2);
     }
     const double s_lo = std::max(config_.scale_min, T.scale * (1.0 - config_.max_scale_step));
     const double s_hi = std::min(config_.scale_max, T.scale * (1.0 + config_.max_scale_step));
-    const Sim2Fit fit = fitSim2(c, p, T.reflected, std::min(s_lo, s_hi), std::max(s_lo, s_hi));
+    const Sim2Fit fit =
+        fitSim2(c, p, T.reflected, std::min(s_lo, s_hi), std::max(s_lo, s_hi), &w);
     if (!fit.ok) break;
     // Motion of the observed centroid's preimage: one number for rotation, scale and shift.
     Eigen::Vector2d cm = Eigen::Vector2d::Zero();
@@ -167,10 +265,14 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
                          std::abs(angleDiff(fit.T_world_sketch.yaw_rad, T.yaw_rad)) * 10.0 +
                          std::abs(fit.T_world_sketch.scale / T.scale - 1.0) * 10.0;
     T = fit.T_world_sketch;
-    max_corr = std::max(config_.min_correspondence_m, max_corr * config_.anneal_factor);
-    if (moved < config_.convergence_m && max_corr <= config_.min_correspondence_m) {
-      ++it;
-      break;
+    // Narrow the capture radius only once the transform settles at the current one: shrinking it
+    // early freezes a far-off start in a local minimum.
+    if (moved < config_.anneal_when_moved_m) {
+      if (max_corr <= config_.min_correspondence_m && moved < config_.convergence_m) {
+        ++it;
+        break;
+      }
+      max_corr = std::max(config_.min_correspondence_m, max_corr * config_.anneal_factor);
     }
   }
   out = evaluate(T, observed, reverse);

@@ -21,24 +21,35 @@
 namespace efs::registration {
 
 struct ScaleIcpConfig {
-  int max_iterations = 25;
+  int max_iterations = 60;
   double max_correspondence_m = 4.0;  ///< world, first iteration
   double min_correspondence_m = 1.0;  ///< world, annealed down to this
   double anneal_factor = 0.8;         ///< per iteration
-  double trim_ratio = 0.8;            ///< keep this fraction of the closest pairs
+  double trim_ratio = 0.95;           ///< keep this fraction of the closest pairs
   double scale_min = 0.4;             ///< world metres per sketch metre
   double scale_max = 2.5;
   double max_scale_step = 0.1;        ///< relative scale change per iteration
   double convergence_m = 1e-3;        ///< stop when the transform moves less than this
+  double anneal_when_moved_m = 0.05;  ///< shrink the radius once a step moves less than this
   double fitness_trim_ratio = 0.8;    ///< F over this fraction of the closest observed points
   double inlier_distance_m = 1.0;     ///< for the inlier ratio
   double min_inlier_ratio = 0.75;     ///< below this the hypothesis is invalid
   double sketch_margin_m = 3.0;       ///< sketch frame, around the sketch's bounding box
   int min_points = 20;                ///< observed points inside the sketch needed
+  double min_inside_ratio = 0.3;      ///< of the observed points (a partial sketch covers less)
   /// Reverse term (the paper's direction, prior -> observation): sketch points visible from the
   /// robot within this world range must have an observed point nearby. Catches transforms that
   /// put sketch walls where the LiDAR saw free space. 0 disables.
   double reverse_range_m = 20.0;
+  bool symmetric = false;  ///< also pair visible sketch points with observed ones while iterating
+  /// Cold starts first try a small grid of yaw x scale offsets about the observation's centroid
+  /// (ICP's own capture range in cluttered floors is a few degrees and percent): +-steps*step.
+  int coarse_yaw_steps = 2;
+  double coarse_yaw_step_rad = 0.0873;  ///< 5 deg
+  int coarse_scale_steps = 2;
+  double coarse_scale_step = 0.1;
+  int coarse_points = 150;
+  double coarse_truncation_m = 1.0;
   void validate() const;
 };
 
@@ -77,6 +88,9 @@ class ScaleIcp {
   size_t numSketchPoints() const { return tree_.size(); }
 
  private:
+  Sim2 coarseSearch(const Sim2& T0, const Points2d& observed, const ObservedIndex* reverse) const;
+  /// Sketch points visible from the robot under T, within reverse_range_m.
+  Points2d visibleSketch(const Sim2& T, const Eigen::Vector2d& robot_world_m) const;
   ScaleIcpConfig config_;
   PointKdTree2d tree_;
   Eigen::Vector2d box_min_, box_max_;

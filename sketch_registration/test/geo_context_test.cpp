@@ -1,0 +1,168 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "sketch_registration/geo_context.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "efs_common/config_check.h"
+#include "sketch_registration/hpr.h"
+#include "sketch_registration/synthetic_scene.h"
+
+namespace efs::registration {
+namespace {
+
+using Eigen::Vector2d;
+
+Points2d officePoints() { return synthetic::samplePlan(synthetic::makeOfficeFloor(), 0.1); }
+
+Points2d rotatedAbout(const Points2d& pts, const Vector2d& center, double yaw_rad, bool mirror) {
+  const Sim2 T(yaw_rad, 1.0, Vector2d::Zero(), mirror);
+  Points2d out;
+  for (const auto& p : pts) out.push_back(center + T.apply(p - center));
+  return out;
+}
+
+TEST(Hpr, WallBehindAWallIsHidden) {
+  Points2d pts;
+  for (double y = -5; y <= 5; y += 0.1) {
+    pts.emplace_back(3.0, y);  // front wall
+    pts.emplace_back(6.0, y);  // hidden behind it
+  }
+  pts.emplace_back(-4.0, 0.0);  // alone behind the viewpoint: visible
+  HprConfig config;
+  const Points2d visible = hiddenPointRemoval(pts, Vector2d::Zero(), config);
+  int front = 0, back = 0, behind = 0;
+  for (const auto& p : visible) {
+    front += p.x() == 3.0;
+    behind += p.x() == -4.0;
+    // Far-wall points outside the front wall's angular extent (|y| > 10) do not exist here.
+    back += p.x() == 6.0;
+  }
+  EXPECT_EQ(front, 101);
+  EXPECT_EQ(behind, 1);
+  EXPECT_EQ(back, 0);
+}
+
+TEST(Hpr, SparsePointsCloseByStillOcclude) {
+  // Wall at 1 m sampled every 0.2 m: each point must cover its angular gap.
+  Points2d pts;
+  for (double y = -1.0; y <= 1.0; y += 0.2) pts.emplace_back(1.0, y);
+  for (double y = -1.0; y <= 1.0; y += 0.05) pts.emplace_back(8.0, y);
+  HprConfig config;
+  config.point_radius_m = 0.1;
+  for (const auto& p : hiddenPointRemoval(pts, Vector2d::Zero(), config)) EXPECT_LT(p.x(), 2.0);
+}
+
+TEST(GeoContext, RotatedSceneIsAColumnShift) {
+  DescriptorConfig config;
+  const Points2d pts = officePoints();
+  const Vector2d view(25.0, 18.0);
+  const GeoContext d0 = computeGeoContext(pts, view, config);
+  ASSERT_TRUE(d0.valid);
+  const int n = config.num_bins;
+  for (int shift : {1, 7, 45, 83}) {
+    const double yaw = 2.0 * M_PI * shift / n;
+    const GeoContext d1 = computeGeoContext(rotatedAbout(pts, view, yaw, false), view, config);
+    // World direction theta + yaw holds what the original had at theta: d1[i + shift] = d0[i].
+    int close = 0;
+    for (int i = 0; i < n; ++i) close += std::abs(d1.range_m[(i + shift) % n] - d0.range_m[i]) < 0.05;
+    EXPECT_GE(close, n - 2) << "shift " << shift;
+    const ShiftMatch m = bestColumnShift(d0, d1, false);
+    EXPECT_EQ(m.shift, shift);
+    EXPECT_NEAR(m.yaw_rad, std::remainder(yaw, 2 * M_PI), 1e-9);
+    EXPECT_GT(m.score, 0.995);
+    const ShiftMatch fast = bestColumnShiftCoarseToFine(d0, ShiftTables(d1), false, 3);
+    EXPECT_EQ(fast.shift, shift);
+    // Shift-invariant parts are unchanged by the rotation.
+    EXPECT_GT(fftSimilarity(d0, d1), 0.999);
+    EXPECT_GT(cvSimilarity(d0, d1), 0.99);
+  }
+}
+
+TEST(GeoContext, MirroredSceneMatchesReversed) {
+  DescriptorConfig config;
+  const Points2d pts = officePoints();
+  const Vector2d view(50.0, 25.0);
+  const GeoContext d0 = computeGeoContext(pts, view, config);
+  const double yaw = 2.0 * M_PI * 20 / config.num_bins;
+  const GeoContext d1 = computeGeoContext(rotatedAbout(pts, view, yaw, true), view, config);
+  const ShiftMatch m = bestColumnShift(d0, d1, true);
+  EXPECT_TRUE(m.reversed);
+  EXPECT_EQ(m.shift, 20);
+  EXPECT_GT(m.score, 0.99);
+  const ShiftMatch fast = bestColumnShiftCoarseToFine(d0, ShiftTables(d1), true, 3);
+  EXPECT_TRUE(fast.reversed);
+  EXPECT_EQ(fast.shift, 20);
+  // Without the mirrored search the score is clearly lower.
+  EXPECT_LT(bestColumnShift(d0, d1, false).score, m.score);
+}
+
+TEST(GeoContext, SimilaritiesInUnitIntervalAndOneForIdentical) {
+  DescriptorConfig config;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.0f, 30.0f);
+  std::bernoulli_distribution empty(0.1);
+  for (int trial = 0; trial < 50; ++trial) {
+    GeoContext a, b;
+    for (int i = 0; i < config.num_bins; ++i) {
+      a.range_m.push_back(empty(rng) ? 0.0f : u(rng));
+      b.range_m.push_back(empty(rng) ? 0.0f : u(rng));
+    }
+    computeFeatures(a, config);
+    computeFeatures(b, config);
+    for (double s : {bestColumnShift(a, b, true).score, fftSimilarity(a, b), cvSimilarity(a, b),
+                     inverseCosine(a.range_m.data(), b.range_m.data(), config.num_bins)}) {
+      EXPECT_GE(s, 0.0);
+      EXPECT_LE(s, 1.0);
+    }
+    EXPECT_NEAR(bestColumnShift(a, a, false).score, 1.0, 1e-6);
+    EXPECT_EQ(bestColumnShift(a, a, false).shift, 0);
+    EXPECT_NEAR(fftSimilarity(a, a), 1.0, 1e-9);
+    EXPECT_NEAR(cvSimilarity(a, a), 1.0, 1e-12);
+    const SimilarityWeights w;
+    EXPECT_NEAR(combineSimilarity(1.0, 1.0, 1.0, w), 1.0, 1e-12);
+    const double s = combineSimilarity(bestColumnShift(a, b, false).score, fftSimilarity(a, b),
+                                       cvSimilarity(a, b), w);
+    EXPECT_GE(s, 0.0);
+    EXPECT_LE(s, 1.0);
+  }
+}
+
+TEST(GeoContext, SimilaritiesAreScaleInvariant) {
+  DescriptorConfig config;
+  GeoContext a, b;
+  for (int i = 0; i < config.num_bins; ++i) {
+    a.range_m.push_back(5.0f + 3.0f * std::sin(0.3f * i));
+    b.range_m.push_back(2.0f * a.range_m.back());
+  }
+  computeFeatures(a, config);
+  computeFeatures(b, config);
+  EXPECT_NEAR(bestColumnShift(a, b, false).score, 1.0, 1e-6);
+  EXPECT_NEAR(fftSimilarity(a, b), 1.0, 1e-9);
+  EXPECT_NEAR(cvSimilarity(a, b), 1.0, 1e-9);
+}
+
+TEST(GeoContext, EmptyOrSparseInputIsInvalid) {
+  DescriptorConfig config;
+  EXPECT_FALSE(computeGeoContext({}, Vector2d::Zero(), config).valid);
+  EXPECT_FALSE(computeGeoContext({Vector2d(10, 10), Vector2d(20, 0)}, Vector2d::Zero(), config).valid);
+  EXPECT_EQ(bestColumnShift(GeoContext{}, GeoContext{}, true).score, 0.0);
+}
+
+TEST(GeoContext, ConfigValidationNamesTheKey) {
+  DescriptorConfig c;
+  c.coarse_shift_factor = 4;  // does not divide 90
+  try {
+    c.validate();
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("coarse_shift_factor"), std::string::npos);
+  }
+  c = DescriptorConfig{};
+  c.num_fft = 0;
+  EXPECT_THROW(c.validate(), ConfigError);
+}
+
+}  // namespace
+}  // namespace efs::registration

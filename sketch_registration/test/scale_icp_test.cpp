@@ -1,0 +1,138 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "sketch_registration/scale_icp.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "efs_common/angles.h"
+#include "efs_common/config_check.h"
+#include "sketch_registration/synthetic_scene.h"
+
+namespace efs::registration {
+namespace {
+
+using Eigen::Vector2d;
+namespace syn = synthetic;
+
+struct IcpScene {
+  Points2d sketch;
+  Points2d observed_world;
+  Sim2 truth;
+  Vector2d robot_world;
+};
+
+IcpScene makeScene() {
+  IcpScene s;
+  const syn::FloorPlan plan = syn::makeOfficeFloor();
+  s.sketch = syn::samplePlan(plan, 0.1);
+  s.truth = Sim2(0.8, 1.4, Vector2d(12.0, -5.0));
+  const syn::FloorPlan world = syn::transformed(plan, s.truth);
+  std::mt19937 rng(4);
+  std::normal_distribution<double> n(0.0, 0.03);
+  for (const Vector2d& p_sketch : {Vector2d(10, 18), Vector2d(25, 18), Vector2d(42, 18), Vector2d(42, 30), Vector2d(52, 25), Vector2d(42, 22)}) {
+    s.robot_world = s.truth.apply(p_sketch);
+    for (const auto& h : syn::castRays(world, s.robot_world, 360, 30.0)) {
+      s.observed_world.push_back(h + Vector2d(n(rng), n(rng)));
+    }
+  }
+  return s;
+}
+
+/// Worst displacement of the observed walls between T and the truth.
+double worstWallError(const Sim2& T, const IcpScene& s) {
+  double worst = 0.0;
+  for (const auto& p : s.observed_world) {
+    const Vector2d c = s.truth.inverse().apply(p);
+    worst = std::max(worst, (T.apply(c) - s.truth.apply(c)).norm());
+  }
+  return worst;
+}
+
+TEST(ScaleIcp, ConvergesFromPerturbedStart) {
+  const IcpScene s = makeScene();
+  const ScaleIcp icp(s.sketch, ScaleIcpConfig{});
+  PointKdTree2d::Points dense(s.observed_world.begin(), s.observed_world.end());
+  const PointKdTree2d tree(dense);
+  const ObservedIndex index{&tree, s.robot_world};
+  // Perturbation about the observed area's centroid: 10 deg, 2 m, 20 % scale, all at once and one
+  // by one.
+  Vector2d pivot = Vector2d::Zero();
+  for (const auto& p : s.observed_world) pivot += p;
+  pivot /= static_cast<double>(s.observed_world.size());
+  auto perturb = [&](double dyaw, double dscale, const Vector2d& dt) {
+    const Sim2 about(dyaw, dscale, pivot - dscale * (Eigen::Rotation2Dd(dyaw) * pivot));
+    Sim2 T = about * s.truth;
+    T.t_m += dt;
+    return T;
+  };
+  // Starts inside the capture range: 10 deg + 20 % + 2 m together, and each alone.
+  const std::vector<Sim2> starts = {
+      perturb(deg2rad(10), 1.2, {2, 0}), perturb(deg2rad(10), 1.0, {0, 0}),
+      perturb(deg2rad(-10), 1.0, {0, 0}), perturb(0, 1.2, {0, 0}),
+      perturb(0, 0.8, {0, 0}),            perturb(0, 1.0, {1.4, 1.4}),
+      perturb(0, 1.0, {0, -2}),           perturb(0, 1.0, {0, 0})};
+  for (const Sim2& init : starts) {
+    const IcpResult r = icp.refine(init, s.observed_world, 0.0, &index);
+    EXPECT_TRUE(r.valid) << init.toString();
+    EXPECT_NEAR(angleDiff(r.T_world_sketch.yaw_rad, s.truth.yaw_rad), 0.0, deg2rad(0.5));
+    EXPECT_NEAR(r.T_world_sketch.scale, s.truth.scale, 0.015);
+    EXPECT_LT(worstWallError(r.T_world_sketch, s), 0.4)
+        << init.toString() << " -> " << r.T_world_sketch.toString();
+    EXPECT_LT(r.fitness_m, 0.1);
+    EXPECT_GT(r.inlier_ratio, 0.95);
+  }
+  // The other sign combinations are at the edge of the capture range on this floor: they must
+  // either converge or be rejected (invalid or F above the default F_thresh), never be wrong and
+  // accepted.
+  for (const Sim2& init : {perturb(deg2rad(-10), 1.2, {0, 2}), perturb(deg2rad(10), 0.8, {-2, 0}),
+                           perturb(deg2rad(-10), 0.8, {0, -2})}) {
+    const IcpResult r = icp.refine(init, s.observed_world, 0.0, &index);
+    if (worstWallError(r.T_world_sketch, s) > 1.0) {
+      EXPECT_TRUE(!r.valid || r.fitness_m > 0.6) << init.toString();
+    }
+  }
+}
+
+TEST(ScaleIcp, FitnessSeparatesRightFromWrong) {
+  const IcpScene s = makeScene();
+  const ScaleIcp icp(s.sketch, ScaleIcpConfig{});
+  const IcpResult good = icp.evaluate(s.truth, s.observed_world);
+  Sim2 wrong = s.truth;
+  wrong.yaw_rad += M_PI / 2;
+  const IcpResult bad = icp.evaluate(wrong, s.observed_world);
+  EXPECT_LT(good.fitness_m, 0.1);
+  EXPECT_TRUE(good.valid);
+  EXPECT_TRUE(!bad.valid || bad.fitness_m > 3.0 * good.fitness_m);
+  Sim2 shifted = s.truth;
+  shifted.t_m += Vector2d(3.0, 0.0);
+  const IcpResult off = icp.evaluate(shifted, s.observed_world);
+  EXPECT_TRUE(!off.valid || off.fitness_m > 3.0 * good.fitness_m);
+}
+
+TEST(ScaleIcp, ScaleStaysWithinBounds) {
+  const IcpScene s = makeScene();
+  ScaleIcpConfig config;
+  config.scale_min = 0.5;
+  config.scale_max = 1.2;  // the truth (1.4) lies outside
+  const ScaleIcp icp(s.sketch, config);
+  const IcpResult r = icp.refine(s.truth, s.observed_world);
+  EXPECT_LE(r.T_world_sketch.scale, 1.2 + 1e-12);
+}
+
+TEST(ScaleIcp, DegenerateInputsAreInvalidNotFatal) {
+  const ScaleIcp empty_sketch({}, ScaleIcpConfig{});
+  EXPECT_FALSE(empty_sketch.refine(Sim2(), {Vector2d(1, 1)}).valid);
+  const IcpScene s = makeScene();
+  const ScaleIcp icp(s.sketch, ScaleIcpConfig{});
+  EXPECT_FALSE(icp.refine(s.truth, {}).valid);
+  Sim2 nan = s.truth;
+  nan.scale = std::nan("");
+  EXPECT_FALSE(icp.refine(nan, s.observed_world).valid);
+  ScaleIcpConfig bad;
+  bad.trim_ratio = 0.0;
+  EXPECT_THROW(bad.validate(), ConfigError);
+}
+
+}  // namespace
+}  // namespace efs::registration
