@@ -32,7 +32,9 @@ struct CoverageConfig {
 
 /// The voxel a return belongs to: the hit point pushed a millimetre along the ray, so that a hit
 /// exactly on a voxel boundary (an axis-aligned wall) lands in the voxel behind the surface,
-/// the same one for every ray. Ground truth and coverage both use it.
+/// the same one for every ray. Ground truth and coverage both use it. A world that supplies its
+/// own ground truth should therefore give the keys of its occupied cells that touch free space
+/// (efs::toVoxelKey of their centres, on the global 0.3 m grid anchored at the origin).
 inline VoxelKey surfaceVoxelKey(const Eigen::Vector3f& hit_world, const Eigen::Vector3f& dir_unit,
                                 double voxel_size_m) {
   const Eigen::Vector3f p = hit_world + 1e-3f * dir_unit;
