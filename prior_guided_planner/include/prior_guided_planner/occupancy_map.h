@@ -128,8 +128,10 @@ class OccupancyMap {
                    double radius_m, bool unknown_is_safe) const;
   /// True when no occupied cell (and no unknown one, when `unknown_blocks`) lies on the voxel
   /// traversal from `from` to `to`, both end cells excluded: a sensor at `from` sees `to`.
+  /// Cells within `ignore_near_to_cells` (Chebyshev, in cells) of the `to` cell are ignored too:
+  /// a surface cell's own neighbours must not hide it.
   bool lineOfSight(const Eigen::Vector3d& from_world_m, const Eigen::Vector3d& to_world_m,
-                   bool unknown_blocks) const;
+                   bool unknown_blocks, int ignore_near_to_cells = 0) const;
 
   size_t numBlocks() const { return blocks_.size(); }
   size_t numKnownCells() const { return known_cells_; }

@@ -1,0 +1,121 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// The observation map (paper Sec. VI-A, after EPIC): the surface seen so far as cells of a
+// spatial hash (efs::VoxelKey, 0.3 m by default), each either well or poorly observed.
+//
+// Rule (our reading of EPIC's "observed closely enough"; there are no surface normals here):
+//   a surface cell is WELL OBSERVED once
+//     (a) some point fell in it from a sensor within `well_observed_distance_m`, or
+//     (b) points fell in it from at least `min_view_directions` distinct viewing directions
+//         (24 bins: 8 azimuth sectors x 3 elevation bands of the cell-to-sensor direction),
+//         each from within `direction_rule_max_distance_m` (0 disables rule b);
+//   otherwise it is POORLY OBSERVED. Being well observed is monotone: it is never lost.
+// A FRONTIER cell is a poorly observed surface cell with at least one well observed cell among
+// its 26 neighbours: the edge of the closely seen surface, where a closer look pays off.
+// Both flags change monotonically with new observations, so one scan only touches the cells it
+// hit and their neighbours; the changes are queued for the frontier clusterer.
+// Memory is one hash entry per surface cell: it grows with the explored surface only.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "efs_common/voxel_key.h"
+
+namespace efs::planner {
+
+struct ObservationMapConfig {
+  double resolution_m = 0.3;
+  /// Points beyond this range (sensor max range) or closer than min_range_m are not surface.
+  double max_range_m = 40.0;
+  double min_range_m = 0.3;
+  /// Rule (a): one observation from this close makes a cell well observed.
+  double well_observed_distance_m = 5.0;
+  /// Rule (b): this many distinct viewing directions (0 disables the rule) ...
+  int min_view_directions = 3;
+  /// ... each from within this distance.
+  double direction_rule_max_distance_m = 10.0;
+  void validate() const;
+};
+
+struct SurfaceCell {
+  float min_distance_m = std::numeric_limits<float>::infinity();  ///< closest sensor so far
+  uint32_t view_direction_bins = 0;  ///< bit i: seen from direction bin i (rule b range)
+  uint32_t hits = 0;
+  bool well_observed = false;
+  bool frontier = false;
+};
+
+struct ObservationUpdateStats {
+  size_t points_in = 0;
+  size_t points_used = 0;
+  size_t points_rejected_nonfinite = 0;
+  size_t points_rejected_range = 0;
+  size_t new_cells = 0;
+  size_t newly_well_observed = 0;
+  size_t frontier_changes = 0;
+  bool rejected_scan = false;  ///< non-finite sensor origin
+};
+
+class ObservationMap {
+ public:
+  static constexpr int kNumDirectionBins = 24;
+
+  explicit ObservationMap(ObservationMapConfig config = {});
+
+  const ObservationMapConfig& config() const { return config_; }
+  double resolution() const { return config_.resolution_m; }
+  VoxelKey key(const Eigen::Vector3d& p_world_m) const {
+    return toVoxelKey(p_world_m, config_.resolution_m);
+  }
+  Eigen::Vector3d center(const VoxelKey& k) const { return voxelCenter(k, config_.resolution_m); }
+
+  ObservationUpdateStats insertScan(const Eigen::Vector3d& sensor_origin_world_m,
+                                    const std::vector<Eigen::Vector3d>& points_world_m);
+
+  /// nullptr when the cell is not (yet) surface.
+  const SurfaceCell* cell(const VoxelKey& k) const;
+  bool isWellObserved(const VoxelKey& k) const;
+  bool isFrontier(const VoxelKey& k) const { return frontier_cells_.count(k) > 0; }
+
+  size_t numSurfaceCells() const { return cells_.size(); }
+  size_t numWellObserved() const { return num_well_; }
+  size_t numFrontierCells() const { return frontier_cells_.size(); }
+  const std::unordered_set<VoxelKey, VoxelKeyHash>& frontierCells() const { return frontier_cells_; }
+  const std::unordered_map<VoxelKey, SurfaceCell, VoxelKeyHash>& cells() const { return cells_; }
+
+  /// Cells whose frontier flag changed since the last call (deduplicated), then forgets them.
+  std::vector<VoxelKey> takeFrontierChanges();
+
+  /// Counts surface cells within `radius_m` of `p` (all / well observed); for guidepoint states.
+  void countCellsNear(const Eigen::Vector3d& p_world_m, double radius_m, size_t* all,
+                      size_t* well_observed) const;
+
+  size_t memoryBytes() const;
+
+  /// The rule in one place, exposed for tests and tuning.
+  static bool isWellObservedRule(const ObservationMapConfig& c, double min_distance_m,
+                                 uint32_t view_direction_bins);
+  /// Bin of a (non-zero) direction from the cell towards the sensor.
+  static int directionBin(const Eigen::Vector3d& cell_to_sensor);
+
+ private:
+  void setFrontier(const VoxelKey& k, SurfaceCell& c, bool frontier, ObservationUpdateStats& st);
+  bool hasWellNeighbour(const VoxelKey& k) const;
+
+  ObservationMapConfig config_;
+  std::unordered_map<VoxelKey, SurfaceCell, VoxelKeyHash> cells_;
+  std::unordered_set<VoxelKey, VoxelKeyHash> frontier_cells_;
+  std::unordered_set<VoxelKey, VoxelKeyHash> frontier_changes_;
+  size_t num_well_ = 0;
+};
+
+/// The 26 neighbour offsets of a cell.
+const std::vector<VoxelKey>& neighbourOffsets26();
+
+}  // namespace efs::planner

@@ -1,0 +1,238 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "prior_guided_planner/path_length.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+
+#include "efs_common/config_check.h"
+#include "prior_guided_planner/observation_map.h"
+
+namespace efs::planner {
+
+void PathSearchConfig::validate() const {
+  requireInRange("path.search_resolution_m", search_resolution_m, 0.05, 10.0);
+  requireInRange("path.vehicle_radius_m", vehicle_radius_m, 0.0, 10.0);
+  requireInRange("path.max_expansions", max_expansions, 1, 100000000);
+  requireInRange("path.endpoint_tolerance_m", endpoint_tolerance_m, 0.0, 10.0);
+}
+
+PathSearch::PathSearch(const OccupancyMap& occ, PathSearchConfig config)
+    : occ_(occ), config_(config) {
+  config_.validate();
+  memo_revision_ = occ_.revision();
+}
+
+bool PathSearch::traversable(const VoxelKey& k) {
+  auto it = traversable_.find(k);
+  if (it != traversable_.end()) return it->second;
+  const bool ok = occ_.isSafe(center(k), config_.vehicle_radius_m, config_.unknown_is_traversable);
+  traversable_.emplace(k, ok);
+  return ok;
+}
+
+PathSearchResult PathSearch::search(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  PathSearchResult res;
+  if (!a.allFinite() || !b.allFinite()) return res;
+  if (occ_.revision() != memo_revision_) {
+    traversable_.clear();
+    memo_revision_ = occ_.revision();
+  }
+  const double r = config_.vehicle_radius_m;
+  const bool unk = config_.unknown_is_traversable;
+  if (occ_.segmentSafe(a, b, r, unk)) {
+    res.length_m = (b - a).norm();
+    res.waypoints_world_m = {a, b};
+    res.straight = true;
+    return res;
+  }
+  // End points join the lattice through one of the 27 nodes around them, by a segment that
+  // crosses no occupied cell (the end points themselves may sit closer to a wall than the
+  // vehicle radius, e.g. the robot after a tight turn).
+  const double s = config_.search_resolution_m;
+  auto attach = [&](const Eigen::Vector3d& p) {
+    std::vector<std::pair<VoxelKey, double>> out;
+    const VoxelKey k0 = toVoxelKey(p, s);
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const VoxelKey k{k0.x + dx, k0.y + dy, k0.z + dz};
+          if (!traversable(k)) continue;
+          if (!occ_.segmentSafe(p, center(k), 0.0, true)) continue;
+          out.emplace_back(k, (center(k) - p).norm());
+        }
+    return out;
+  };
+  const auto starts = attach(a);
+  const auto goals = attach(b);
+  if (starts.empty() || goals.empty()) return res;
+  std::unordered_map<VoxelKey, double, VoxelKeyHash> goal_cost;
+  for (const auto& [k, c] : goals) goal_cost[k] = c;
+
+  struct Node {
+    double g;
+    VoxelKey parent;
+    bool closed;
+    bool has_parent;
+  };
+  std::unordered_map<VoxelKey, Node, VoxelKeyHash> nodes;
+  using QItem = std::pair<double, VoxelKey>;
+  auto cmp = [](const QItem& x, const QItem& y) { return x.first > y.first; };
+  std::priority_queue<QItem, std::vector<QItem>, decltype(cmp)> open(cmp);
+  // f = g + h, where a goal node's h is its exact remaining cost; others use the straight line.
+  auto h = [&](const VoxelKey& k) {
+    auto it = goal_cost.find(k);
+    const double straight = (center(k) - b).norm();
+    return it == goal_cost.end() ? straight : std::min(straight, it->second);
+  };
+  for (const auto& [k, c] : starts) {
+    nodes[k] = {c, k, false, false};
+    open.push({c + h(k), k});
+  }
+  std::optional<VoxelKey> reached;
+  double best_total = std::numeric_limits<double>::infinity();
+  while (!open.empty()) {
+    const auto [f, k] = open.top();
+    open.pop();
+    if (f >= best_total) break;
+    Node& n = nodes[k];
+    if (n.closed) continue;
+    n.closed = true;
+    if (++res.expansions > config_.max_expansions) {
+      res.budget_exhausted = true;
+      break;
+    }
+    auto gc = goal_cost.find(k);
+    if (gc != goal_cost.end() && n.g + gc->second < best_total) {
+      best_total = n.g + gc->second;
+      reached = k;
+    }
+    const double g = n.g;
+    for (const VoxelKey& o : neighbourOffsets26()) {
+      const VoxelKey m{k.x + o.x, k.y + o.y, k.z + o.z};
+      if (!traversable(m)) continue;
+      const double step = s * std::sqrt(static_cast<double>(o.x * o.x + o.y * o.y + o.z * o.z));
+      auto [it, inserted] = nodes.try_emplace(m, Node{g + step, k, false, true});
+      if (!inserted) {
+        if (it->second.closed || it->second.g <= g + step) continue;
+        it->second.g = g + step;
+        it->second.parent = k;
+        it->second.has_parent = true;
+      }
+      open.push({g + step + h(m), m});
+    }
+  }
+  if (!reached) return res;
+  std::vector<Eigen::Vector3d> path{b};
+  for (VoxelKey k = *reached;;) {
+    path.push_back(center(k));
+    const Node& n = nodes[k];
+    if (!n.has_parent) break;
+    k = n.parent;
+  }
+  path.push_back(a);
+  std::reverse(path.begin(), path.end());
+  if (config_.shorten && path.size() > 2) {
+    // Greedy string pulling: from each kept point jump to the farthest point still reachable by
+    // a safe straight segment. The end points keep the relaxed (radius 0) joining rule.
+    std::vector<Eigen::Vector3d> out{path.front()};
+    size_t i = 0;
+    while (i + 1 < path.size()) {
+      size_t j = i + 1;
+      for (size_t t = path.size() - 1; t > i + 1; --t) {
+        const bool ends = (i == 0 || t == path.size() - 1);
+        if (occ_.segmentSafe(path[i], path[t], ends ? 0.0 : r, ends ? true : unk)) {
+          j = t;
+          break;
+        }
+      }
+      out.push_back(path[j]);
+      i = j;
+    }
+    path = std::move(out);
+  }
+  double len = 0.0;
+  for (size_t i = 1; i < path.size(); ++i) len += (path[i] - path[i - 1]).norm();
+  res.length_m = len;
+  res.waypoints_world_m = std::move(path);
+  return res;
+}
+
+PathLengthCache::PathLengthCache(const OccupancyMap& occ, PathSearchConfig config)
+    : occ_(occ), search_(occ, config), synced_revision_(occ.revision()) {}
+
+std::optional<double> PathLengthCache::length(uint64_t id_a, const Eigen::Vector3d& a,
+                                              uint64_t id_b, const Eigen::Vector3d& b) {
+  const bool swap = id_b < id_a;
+  const std::pair<uint64_t, uint64_t> key = swap ? std::make_pair(id_b, id_a) : std::make_pair(id_a, id_b);
+  const Eigen::Vector3d& p = swap ? b : a;
+  const Eigen::Vector3d& q = swap ? a : b;
+  const double tol = search_.config().endpoint_tolerance_m;
+  auto it = entries_.find(key);
+  if (it != entries_.end() && (it->second.a - p).norm() <= tol && (it->second.b - q).norm() <= tol) {
+    ++stats_.hits;
+    return it->second.length_m;
+  }
+  ++stats_.misses;
+  const PathSearchResult r = search_.search(p, q);
+  Entry e;
+  e.a = p;
+  e.b = q;
+  e.length_m = r.length_m;
+  VoxelKey lo = OccupancyMap::blockOf(occ_.key(p)), hi = lo;
+  for (const Eigen::Vector3d& w : r.waypoints_world_m) {
+    const VoxelKey bk = OccupancyMap::blockOf(occ_.key(w));
+    lo = {std::min(lo.x, bk.x), std::min(lo.y, bk.y), std::min(lo.z, bk.z)};
+    hi = {std::max(hi.x, bk.x), std::max(hi.y, bk.y), std::max(hi.z, bk.z)};
+  }
+  e.block_lo = {lo.x - 1, lo.y - 1, lo.z - 1};
+  e.block_hi = {hi.x + 1, hi.y + 1, hi.z + 1};
+  entries_[key] = e;
+  return e.length_m;
+}
+
+void PathLengthCache::sync() {
+  const uint64_t rev = occ_.revision();
+  if (rev == synced_revision_) return;
+  if (rev != synced_revision_ + 1) {
+    stats_.invalidated += entries_.size();
+    entries_.clear();
+    synced_revision_ = rev;
+    return;
+  }
+  synced_revision_ = rev;
+  const auto& changed = occ_.lastChangedBlocks();
+  const bool added_free = occ_.lastScanAddedFree();
+  for (auto it = entries_.begin(); it != entries_.end();) {
+    bool drop = !it->second.length_m.has_value() && added_free;
+    if (!drop && it->second.length_m) {
+      const Entry& e = it->second;
+      for (const VoxelKey& c : changed) {
+        if (c.x >= e.block_lo.x && c.x <= e.block_hi.x && c.y >= e.block_lo.y &&
+            c.y <= e.block_hi.y && c.z >= e.block_lo.z && c.z <= e.block_hi.z) {
+          drop = true;
+          break;
+        }
+      }
+    }
+    if (drop) {
+      ++stats_.invalidated;
+      it = entries_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+void PathLengthCache::forget(uint64_t id) {
+  for (auto it = entries_.begin(); it != entries_.end();) {
+    if (it->first.first == id || it->first.second == id) {
+      it = entries_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+}  // namespace efs::planner

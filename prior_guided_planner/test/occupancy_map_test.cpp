@@ -1,0 +1,129 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "efs_common/config_check.h"
+#include "observation_map_test_scenes.h"
+#include "prior_guided_planner/occupancy_map.h"
+
+namespace efs::planner {
+namespace {
+
+using testing::Box;
+using testing::Scene;
+
+const Eigen::Vector3d kOrigin(0.15, 0.15, 0.15);  // a cell centre at 0.3 m resolution
+
+TEST(OccupancyMap, RayClearsCellsUpToTheHitAndMarksTheHit) {
+  OccupancyMap m;
+  const auto st = m.insertScan(kOrigin, {Eigen::Vector3d(3.15, 0.15, 0.15)});
+  EXPECT_EQ(st.rays_cast, 1u);
+  // Cells 0..9 along x are free, cell 10 is the hit, cell 11 was never seen.
+  for (int x = 0; x < 10; ++x) EXPECT_TRUE(m.isFree({x, 0, 0})) << x;
+  EXPECT_TRUE(m.isOccupied({10, 0, 0}));
+  EXPECT_TRUE(m.isUnknown({11, 0, 0}));
+  EXPECT_TRUE(m.isUnknown({5, 1, 0}));
+  EXPECT_EQ(m.numKnownCells(), 11u);
+  EXPECT_EQ(m.revision(), 1u);
+}
+
+TEST(OccupancyMap, HitWinsOverMissWithinOneScan) {
+  OccupancyMap m;
+  // The second ray passes through the first ray's end cell.
+  m.insertScan(kOrigin, {Eigen::Vector3d(1.95, 0.15, 0.15), Eigen::Vector3d(3.15, 0.15, 0.15)});
+  EXPECT_TRUE(m.isOccupied({6, 0, 0}));
+  EXPECT_TRUE(m.isFree({7, 0, 0}));
+  EXPECT_TRUE(m.isOccupied({10, 0, 0}));
+}
+
+TEST(OccupancyMap, RepeatedMissesClearAnOccupiedCell) {
+  OccupancyMap m;
+  m.insertScan(kOrigin, {Eigen::Vector3d(1.95, 0.15, 0.15)});
+  ASSERT_TRUE(m.isOccupied({6, 0, 0}));
+  // 0.85 - 0.4 * 3 < 0: the third scan that sees through it frees it (an obstacle that left).
+  m.insertScan(kOrigin, {Eigen::Vector3d(3.15, 0.15, 0.15)});
+  m.insertScan(kOrigin, {Eigen::Vector3d(3.15, 0.15, 0.15)});
+  EXPECT_TRUE(m.isOccupied({6, 0, 0}));
+  m.insertScan(kOrigin, {Eigen::Vector3d(3.15, 0.15, 0.15)});
+  EXPECT_TRUE(m.isFree({6, 0, 0}));
+  EXPECT_TRUE(m.lastScanAddedFree());
+}
+
+TEST(OccupancyMap, BadPointsAreCountedAndIgnored) {
+  OccupancyMap m;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const auto st = m.insertScan(kOrigin, {Eigen::Vector3d(nan, 0, 0), Eigen::Vector3d(1, inf, 0),
+                                         Eigen::Vector3d(0.2, 0.15, 0.15),  // 5 cm: the vehicle
+                                         Eigen::Vector3d(60.15, 0.15, 0.15),  // beyond 40 m
+                                         Eigen::Vector3d(2.15, 0.15, 0.15)});
+  EXPECT_EQ(st.points_in, 5u);
+  EXPECT_EQ(st.points_rejected_nonfinite, 2u);
+  EXPECT_EQ(st.points_rejected_too_close, 1u);
+  EXPECT_EQ(st.points_clipped, 1u);
+  EXPECT_EQ(st.rays_cast, 2u);
+  // The clipped ray clears up to 40 m and leaves no hit.
+  EXPECT_TRUE(m.isFree(m.key(Eigen::Vector3d(39.0, 0.15, 0.15))));
+  EXPECT_TRUE(m.isUnknown(m.key(Eigen::Vector3d(45.0, 0.15, 0.15))));
+
+  const uint64_t rev = m.revision();
+  const auto empty = m.insertScan(kOrigin, {});
+  EXPECT_EQ(empty.rays_cast, 0u);
+  EXPECT_EQ(m.revision(), rev);
+  const auto bad_origin = m.insertScan(Eigen::Vector3d(nan, 0, 0), {Eigen::Vector3d(1, 1, 1)});
+  EXPECT_TRUE(bad_origin.rejected_scan);
+  EXPECT_EQ(bad_origin.points_rejected_nonfinite, 1u);
+  EXPECT_EQ(m.revision(), rev);
+}
+
+TEST(OccupancyMap, InflatedSafetyQueryAndLineOfSight) {
+  Scene s;
+  s.room = {Eigen::Vector3d(-5.05, -5.05, -0.05), Eigen::Vector3d(5.05, 5.05, 3.05)};
+  s.solids.push_back({Eigen::Vector3d(1.95, -1.0, -0.05), Eigen::Vector3d(2.25, 1.0, 3.05)});
+  OccupancyMap m;
+  m.insertScan(Eigen::Vector3d(0, 0, 1.5), s.scanSphere(Eigen::Vector3d(0, 0, 1.5), 1.0));
+  EXPECT_TRUE(m.isSafe(Eigen::Vector3d(0, 0, 1.5), 0.4, false));
+  // The wall's face cell starts at x = 1.8: from x = 1.45 it is 0.35 m away.
+  EXPECT_TRUE(m.isSafe(Eigen::Vector3d(1.45, 0, 1.5), 0.3, false));
+  EXPECT_FALSE(m.isSafe(Eigen::Vector3d(1.45, 0, 1.5), 0.4, false));
+  // Behind the wall nothing was seen: unknown, safe only when unknown counts as safe.
+  EXPECT_FALSE(m.isSafe(Eigen::Vector3d(3.5, 0, 1.5), 0.1, false));
+  EXPECT_TRUE(m.isSafe(Eigen::Vector3d(3.5, 0, 1.5), 0.1, true));
+  EXPECT_TRUE(m.lineOfSight(Eigen::Vector3d(0, 0, 1.5), Eigen::Vector3d(1.5, 0.5, 1.0), true));
+  EXPECT_FALSE(m.lineOfSight(Eigen::Vector3d(0, 0, 1.5), Eigen::Vector3d(3.5, 0, 1.5), false));
+  EXPECT_TRUE(m.segmentSafe(Eigen::Vector3d(0, 0, 1.5), Eigen::Vector3d(0, 3, 1.5), 0.4, false));
+  EXPECT_FALSE(m.segmentSafe(Eigen::Vector3d(0, 0, 1.5), Eigen::Vector3d(3.0, 0, 1.5), 0.4, true));
+}
+
+TEST(OccupancyMap, MemoryFollowsTheExploredVolumeNotTheBoundingBox) {
+  // Two small rooms 1 km apart: the block count is that of two rooms, not of the span.
+  OccupancyMap m;
+  Scene a;
+  a.room = {Eigen::Vector3d(-2, -2, -0.05), Eigen::Vector3d(2, 2, 3)};
+  m.insertScan(Eigen::Vector3d(0, 0, 1.5), a.scanSphere(Eigen::Vector3d(0, 0, 1.5), 2.0));
+  const size_t one = m.numBlocks();
+  Scene b;
+  b.room = {Eigen::Vector3d(998, -2, -0.05), Eigen::Vector3d(1002, 2, 3)};
+  m.insertScan(Eigen::Vector3d(1000, 0, 1.5), b.scanSphere(Eigen::Vector3d(1000, 0, 1.5), 2.0));
+  EXPECT_LE(m.numBlocks(), 2 * one + 8);
+  EXPECT_LT(m.memoryBytes(), size_t(1) << 20);
+}
+
+TEST(OccupancyMap, ConfigErrorsNameTheKey) {
+  OccupancyConfig c;
+  c.resolution_m = 0.0;
+  try {
+    OccupancyMap m(c);
+    FAIL() << "no exception";
+  } catch (const efs::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("occupancy.resolution_m"), std::string::npos);
+  }
+  c = {};
+  c.log_odds_miss = 0.3;
+  EXPECT_THROW(c.validate(), efs::ConfigError);
+}
+
+}  // namespace
+}  // namespace efs::planner

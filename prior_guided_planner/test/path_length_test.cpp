@@ -1,0 +1,154 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "efs_common/config_check.h"
+#include "observation_map_test_scenes.h"
+#include "prior_guided_planner/occupancy_map.h"
+#include "prior_guided_planner/path_length.h"
+
+namespace efs::planner {
+namespace {
+
+using testing::Scene;
+
+void scanFrom(OccupancyMap& occ, const Scene& s, std::initializer_list<Eigen::Vector3d> origins) {
+  for (const Eigen::Vector3d& o : origins) occ.insertScan(o, s.scanSphere(o, 1.0));
+}
+
+TEST(PathLength, StraightDistanceInOpenSpace) {
+  Scene s;
+  s.room = {Eigen::Vector3d(-10, -10, -0.05), Eigen::Vector3d(10, 10, 5)};
+  OccupancyMap occ;
+  scanFrom(occ, s, {Eigen::Vector3d(0, 0, 2)});
+  PathSearch ps(occ);
+  const Eigen::Vector3d a(-3, 1, 1.5), b(2, -2, 2.5);
+  const auto r = ps.search(a, b);
+  ASSERT_TRUE(r.length_m.has_value());
+  EXPECT_TRUE(r.straight);
+  EXPECT_DOUBLE_EQ(*r.length_m, (b - a).norm());
+  EXPECT_EQ(r.waypoints_world_m.size(), 2u);
+}
+
+TEST(PathLength, LongerAroundAWall) {
+  // A wall across the room from y = -10 to y = 2: the way from one side to the other goes
+  // around its end at y = 2.
+  Scene s;
+  s.room = {Eigen::Vector3d(-10, -10, -0.05), Eigen::Vector3d(10, 10, 4)};
+  s.solids.push_back({Eigen::Vector3d(-0.15, -10.1, -0.1), Eigen::Vector3d(0.15, 2.0, 4.1)});
+  OccupancyMap occ;
+  scanFrom(occ, s, {Eigen::Vector3d(-3, 0, 2), Eigen::Vector3d(3, 0, 2), Eigen::Vector3d(0, 5, 2),
+                    Eigen::Vector3d(-3, -4, 2), Eigen::Vector3d(3, -4, 2)});
+  PathSearch ps(occ);
+  const Eigen::Vector3d a(-3, -3, 2), b(3, -3, 2);
+  const auto r = ps.search(a, b);
+  ASSERT_TRUE(r.length_m.has_value());
+  EXPECT_FALSE(r.straight);
+  // Lower bound: through the wall's end corner at (0, 2); upper bound: a generous detour
+  // that keeps 1 m from the corner.
+  const Eigen::Vector3d corner(0, 2, 2);
+  const double lower = (corner - a).norm() + (b - corner).norm();
+  const Eigen::Vector3d wide(0, 3, 2);
+  const double upper = (wide - a).norm() + (b - wide).norm();
+  EXPECT_GT(*r.length_m, lower);
+  EXPECT_LT(*r.length_m, upper);
+  // Every leg of the returned path is collision free for the vehicle (end legs: radius 0).
+  const auto& w = r.waypoints_world_m;
+  ASSERT_GE(w.size(), 3u);
+  for (size_t i = 1; i + 2 < w.size(); ++i) EXPECT_TRUE(occ.segmentSafe(w[i], w[i + 1], 0.4, false));
+  EXPECT_EQ(w.front(), a);
+  EXPECT_EQ(w.back(), b);
+}
+
+TEST(PathLength, UnreachableIntoAClosedBox) {
+  Scene outside;
+  outside.room = {Eigen::Vector3d(-8, -8, -0.05), Eigen::Vector3d(8, 8, 5)};
+  outside.solids = testing::hollowBox(Eigen::Vector3d(1, 1, -0.05), Eigen::Vector3d(4, 4, 3), 0.3);
+  OccupancyMap occ;
+  // Scans outside the box and one inside it: the inside is known free but sealed.
+  scanFrom(occ, outside, {Eigen::Vector3d(-3, -3, 2), Eigen::Vector3d(6, 6, 2),
+                          Eigen::Vector3d(-3, 6, 2), Eigen::Vector3d(6, -3, 2),
+                          Eigen::Vector3d(2.5, 2.5, 1.5)});
+  const Eigen::Vector3d out(-3, -3, 2), in(2.5, 2.5, 1.5), in2(2.0, 3.0, 1.5);
+  ASSERT_TRUE(occ.isSafe(in, 0.4, false));
+  PathSearch ps(occ);
+  const auto r = ps.search(out, in);
+  EXPECT_FALSE(r.length_m.has_value());
+  EXPECT_FALSE(r.budget_exhausted);
+  EXPECT_GT(r.expansions, 100);  // it really searched the outside
+  const auto inside = ps.search(in, in2);
+  ASSERT_TRUE(inside.length_m.has_value());
+  EXPECT_NEAR(*inside.length_m, (in2 - in).norm(), 1e-9);
+  // Unknown space: a point nobody has seen is unreachable too.
+  EXPECT_FALSE(ps.search(out, Eigen::Vector3d(20, 20, 2)).length_m.has_value());
+  // A budget that ends early reports it.
+  PathSearchConfig tiny;
+  tiny.max_expansions = 5;
+  PathSearch small(occ, tiny);
+  const auto cut = small.search(out, in);
+  EXPECT_FALSE(cut.length_m.has_value());
+  EXPECT_TRUE(cut.budget_exhausted);
+}
+
+TEST(PathLength, CacheServesRepeatsAndForgetsWhatAScanChanged) {
+  Scene s;
+  s.room = {Eigen::Vector3d(-15, -15, -0.05), Eigen::Vector3d(15, 15, 4)};
+  s.solids.push_back({Eigen::Vector3d(-0.15, -15.1, -0.1), Eigen::Vector3d(0.15, 2.0, 4.1)});
+  OccupancyConfig oc;
+  oc.max_range_m = 10.0;  // the room's far parts stay unknown
+  OccupancyMap occ(oc);
+  scanFrom(occ, s, {Eigen::Vector3d(-3, 0, 2), Eigen::Vector3d(3, 0, 2), Eigen::Vector3d(0, 5, 2)});
+  PathLengthCache cache(occ);
+  const Eigen::Vector3d a(-3, -3, 2), b(3, -3, 2), far(-11, 3, 2), hidden(-3, -12, 2);
+  const auto l1 = cache.length(1, a, 2, b);
+  ASSERT_TRUE(l1.has_value());
+  EXPECT_FALSE(cache.search().search(a, b).straight);
+  EXPECT_EQ(cache.stats().misses, 1u);
+  EXPECT_EQ(cache.length(2, b, 1, a), l1);  // unordered pair
+  EXPECT_EQ(cache.stats().hits, 1u);
+  // The robot node moved: same ids, new position -> searched again.
+  cache.length(1, a + Eigen::Vector3d(0.5, 0, 0), 2, b);
+  EXPECT_EQ(cache.stats().misses, 2u);
+  // 12 m from every scan: unknown, so unreachable, and cached as such.
+  EXPECT_FALSE(cache.length(1, a, 3, hidden).has_value());
+  ASSERT_TRUE(cache.length(1, a, 4, far).has_value());
+  EXPECT_EQ(cache.size(), 3u);
+  // A scan at the far west changes blocks there only and adds free space: the entry to `far`
+  // and the unreachable one are dropped, the a-b path (east of x = -7.2 m) survives.
+  occ.insertScan(far, {Eigen::Vector3d(-14.9, 3, 2)});
+  ASSERT_TRUE(occ.lastScanAddedFree());
+  cache.sync();
+  EXPECT_EQ(cache.size(), 1u);
+  EXPECT_EQ(cache.stats().invalidated, 2u);
+  const size_t hits = cache.stats().hits;
+  cache.length(1, a + Eigen::Vector3d(0.5, 0, 0), 2, b);
+  EXPECT_EQ(cache.stats().hits, hits + 1);
+  // The hidden place gets seen: now reachable.
+  occ.insertScan(Eigen::Vector3d(-3, -6, 2), s.scanSphere(Eigen::Vector3d(-3, -6, 2), 1.0));
+  cache.sync();
+  EXPECT_TRUE(cache.length(1, a, 3, hidden).has_value());
+  // Several scans without sync: everything is dropped.
+  occ.insertScan(Eigen::Vector3d(3, -6, 2), s.scanSphere(Eigen::Vector3d(3, -6, 2), 2.0));
+  occ.insertScan(Eigen::Vector3d(3, -9, 2), s.scanSphere(Eigen::Vector3d(3, -9, 2), 2.0));
+  cache.sync();
+  EXPECT_EQ(cache.size(), 0u);
+  cache.length(1, a, 2, b);
+  cache.forget(2);
+  EXPECT_EQ(cache.size(), 0u);
+}
+
+TEST(PathLength, ConfigErrorsNameTheKey) {
+  OccupancyMap occ;
+  PathSearchConfig c;
+  c.search_resolution_m = 0.0;
+  try {
+    PathSearch ps(occ, c);
+    FAIL();
+  } catch (const efs::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("path.search_resolution_m"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace efs::planner
