@@ -21,6 +21,14 @@ std::string fmt(const Eigen::Vector3d& p) {
 
 }  // namespace
 
+Eigen::AlignedBox3d alignBrickBoundary(const Eigen::AlignedBox3d& extent_m, double z_boundary_m,
+                                       double resolution_m) {
+  const double brick_m = VoxelWorld::kBrickEdge * resolution_m;
+  Eigen::AlignedBox3d out = extent_m;
+  out.min().z() = z_boundary_m - std::ceil((z_boundary_m - extent_m.min().z()) / brick_m - 1e-9) * brick_m;
+  return out;
+}
+
 VoxelWorld::VoxelWorld(const Eigen::AlignedBox3d& extent_m, double resolution_m, Fill initial) {
   requireInRange("resolution_m", resolution_m, 0.01, 10.0);
   requireThat(!extent_m.isEmpty() && extent_m.min().allFinite() && extent_m.max().allFinite(),

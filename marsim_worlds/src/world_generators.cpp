@@ -357,7 +357,8 @@ VoxelWorld generateGarage(const GarageConfig& c) {
   SeededRandom rng(c.seed);
   const double t = c.wall_thickness_m, h = c.size_m.z();
   const Eigen::Vector3d lo(-t, -t, -t), hi = c.size_m + Eigen::Vector3d(t, t, t);
-  VoxelWorld world(Box3(lo, hi), c.resolution_m, VoxelWorld::Fill::kSolid);
+  VoxelWorld world(alignBrickBoundary(Box3(lo, hi), h, c.resolution_m), c.resolution_m,
+                   VoxelWorld::Fill::kSolid);
   world.fillBox(Box3(Eigen::Vector3d::Zero(), c.size_m), false);
   world.setExplorationBox(Box3(Eigen::Vector3d::Zero(), c.size_m));
   auto solid = [&](double x0, double y0, double x1, double y1, double z1) {
@@ -572,8 +573,10 @@ VoxelWorld generateIndoor(const IndoorConfig& c) {
   }
 
   const double h = c.size_m.z();
-  VoxelWorld world(Box3(Eigen::Vector3d(0, 0, -t), Eigen::Vector3d(c.size_m.x(), c.size_m.y(), h + t)),
-                   c.resolution_m, VoxelWorld::Fill::kSolid);
+  VoxelWorld world(
+      alignBrickBoundary(Box3(Eigen::Vector3d(0, 0, -t), Eigen::Vector3d(c.size_m.x(), c.size_m.y(), h + t)),
+                         h, c.resolution_m),
+      c.resolution_m, VoxelWorld::Fill::kSolid);
   world.setExplorationBox(Box3(Eigen::Vector3d::Zero(), c.size_m));
   for (const Box2& b : spaces) {
     world.fillBox(Box3(Eigen::Vector3d(b.min().x(), b.min().y(), 0.0),

@@ -389,7 +389,9 @@ VoxelWorld buildWorld(const Scene& scene, const ImportConfig& cfg, const std::st
   const double t = cfg.slab_thickness_m;
   const Eigen::Vector3d pad(cfg.margin_m, cfg.margin_m,
                             std::max(t, cfg.resolution_m) + cfg.resolution_m);
-  VoxelWorld world(Box3(extent.min() - pad, extent.max() + pad), cfg.resolution_m);
+  Box3 grid_extent(extent.min() - pad, extent.max() + pad);
+  if (cfg.add_ceiling) grid_extent = alignBrickBoundary(grid_extent, extent.max().z(), cfg.resolution_m);
+  VoxelWorld world(grid_extent, cfg.resolution_m);
   world.name = name;
   world.setExplorationBox(extent);
   paintScene(scene, cfg.pcd_dilate_voxels, world);
@@ -400,7 +402,8 @@ VoxelWorld buildWorld(const Scene& scene, const ImportConfig& cfg, const std::st
   }
   if (cfg.add_ceiling) {
     world.fillBox(Box3(Eigen::Vector3d(world.gridBox().min().x(), world.gridBox().min().y(), extent.max().z()),
-                       Eigen::Vector3d(world.gridBox().max().x(), world.gridBox().max().y(), extent.max().z() + t)),
+                       Eigen::Vector3d(world.gridBox().max().x(), world.gridBox().max().y(),
+                                       std::max(extent.max().z() + t, world.gridBox().max().z()))),
                   true);
   }
   world.compact();

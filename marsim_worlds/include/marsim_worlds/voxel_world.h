@@ -160,6 +160,12 @@ class VoxelWorld final : public WorldGeometry {
   std::vector<int32_t> free_slots_;
 };
 
+/// `extent_m` with its bottom lowered so that height `z_boundary_m` falls on a brick boundary of a
+/// grid at `resolution_m`. Used for ceilings: most LiDAR rays go up, and a ceiling that fills
+/// whole bricks is hit at the brick level without walking voxels (about twice the rays/s indoors).
+Eigen::AlignedBox3d alignBrickBoundary(const Eigen::AlignedBox3d& extent_m, double z_boundary_m,
+                                       double resolution_m);
+
 // ------------------------------------------------------------------------------------------------
 
 template <class SignedDistance>
