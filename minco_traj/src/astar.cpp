@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <queue>
-#include <unordered_map>
 
 #include "efs_common/config_check.h"
 
@@ -14,17 +13,25 @@ void AStarConfig::validate() const {
   requireInRange("astar.goal_search_radius_m", goal_search_radius_m, 0.0, 10.0);
   requireInRange("astar.start_escape_radius_m", start_escape_radius_m, 0.0, 10.0);
   requireInRange("astar.max_expansions", max_expansions, 1, 100000000);
+  requireInRange("astar.heuristic_weight", heuristic_weight, 1.0, 10.0);
 }
 
 const char* toString(AStarStatus s) {
   switch (s) {
-    case AStarStatus::kSuccess: return "success";
-    case AStarStatus::kStartOutside: return "start_outside_window";
-    case AStarStatus::kStartInCollision: return "start_in_collision";
-    case AStarStatus::kGoalOutside: return "goal_outside_window";
-    case AStarStatus::kGoalBlocked: return "goal_blocked";
-    case AStarStatus::kNoPath: return "no_path";
-    case AStarStatus::kExpansionLimit: return "expansion_limit";
+    case AStarStatus::kSuccess:
+      return "success";
+    case AStarStatus::kStartOutside:
+      return "start_outside_window";
+    case AStarStatus::kStartInCollision:
+      return "start_in_collision";
+    case AStarStatus::kGoalOutside:
+      return "goal_outside_window";
+    case AStarStatus::kGoalBlocked:
+      return "goal_blocked";
+    case AStarStatus::kNoPath:
+      return "no_path";
+    case AStarStatus::kExpansionLimit:
+      return "expansion_limit";
   }
   return "?";
 }
@@ -128,8 +135,26 @@ AStarResult AStarPlanner::plan(const LocalGrid& grid, const Eigen::Vector3d& sta
 
   std::vector<Node> nodes;
   nodes.reserve(4096);
-  std::unordered_map<VoxelKey, int, VoxelKeyHash> index;
-  index.reserve(8192);
+  // Dense per-cell scratch (node index valid when the stamp matches this search): no hashing and
+  // no clearing between searches.
+  if (stamp_.size() != grid.cellCount()) {
+    stamp_.assign(grid.cellCount(), 0);
+    node_of_.assign(grid.cellCount(), -1);
+    search_id_ = 0;
+  }
+  if (++search_id_ == 0) {
+    std::fill(stamp_.begin(), stamp_.end(), 0);
+    search_id_ = 1;
+  }
+  auto lookup = [&](const VoxelKey& k) -> int {
+    const size_t sl = grid.slot(k);
+    return stamp_[sl] == search_id_ ? node_of_[sl] : -1;
+  };
+  auto remember = [&](const VoxelKey& k, int idx) {
+    const size_t sl = grid.slot(k);
+    stamp_[sl] = search_id_;
+    node_of_[sl] = idx;
+  };
   // Ties in f are broken toward larger g (deeper nodes): in open space many cells share the same
   // f, and preferring the deepest one avoids expanding the whole tie plateau. Optimality is kept
   // because the order among equal f does not matter for a consistent heuristic.
@@ -140,8 +165,9 @@ AStarResult AStarPlanner::plan(const LocalGrid& grid, const Eigen::Vector3d& sta
   };
   std::priority_queue<QE, std::vector<QE>, std::greater<QE>> open;
   nodes.push_back({sk, 0.0, -1, false});
-  index[sk] = 0;
-  open.push({octile(sk, gk), 0.0, 0});
+  remember(sk, 0);
+  const double hw = cfg_.heuristic_weight;
+  open.push({hw * octile(sk, gk), 0.0, 0});
   static const double kStep[4] = {0.0, 1.0, std::sqrt(2.0), std::sqrt(3.0)};
   int found = -1;
   while (!open.empty()) {
@@ -167,19 +193,17 @@ AStarResult AStarPlanner::plan(const LocalGrid& grid, const Eigen::Vector3d& sta
           const VoxelKey nk{k.x + dx, k.y + dy, k.z + dz};
           if (grid.isBlocked(nk, cfg_.unknown_is_free)) continue;
           const double ng = g + kStep[m];
-          auto it = index.find(nk);
-          int idx;
-          if (it == index.end()) {
+          int idx = lookup(nk);
+          if (idx < 0) {
             idx = static_cast<int>(nodes.size());
             nodes.push_back({nk, ng, ni, false});
-            index.emplace(nk, idx);
+            remember(nk, idx);
           } else {
-            idx = it->second;
             if (nodes[idx].closed || ng >= nodes[idx].g - 1e-12) continue;
             nodes[idx].g = ng;
             nodes[idx].parent = ni;
           }
-          open.push({ng + octile(nk, gk), ng, idx});
+          open.push({ng + hw * octile(nk, gk), ng, idx});
         }
   }
   if (found < 0) {

@@ -30,9 +30,12 @@ void CorridorConfig::validate() const {
 
 const char* toString(CorridorStatus s) {
   switch (s) {
-    case CorridorStatus::kOk: return "ok";
-    case CorridorStatus::kEmptyPath: return "empty_path";
-    case CorridorStatus::kSeedInCollision: return "seed_in_collision";
+    case CorridorStatus::kOk:
+      return "ok";
+    case CorridorStatus::kEmptyPath:
+      return "empty_path";
+    case CorridorStatus::kSeedInCollision:
+      return "seed_in_collision";
   }
   return "?";
 }
@@ -73,9 +76,9 @@ CorridorResult CorridorBuilder::build(const std::vector<Eigen::Vector3d>& path,
     grid.occupiedCentersInBox(lo.array() - cfg_.clearance_m, hi.array() + cfg_.clearance_m,
                               obstacles, cfg_.clearance_m >= 2.0 * grid.resolution());
     bool in_collision = false;
-    res.polytopes.push_back(inflateSegment(a, b, obstacles, lo.cwiseMax(wlo).cwiseMin(a.cwiseMin(b)),
-                                           hi.cwiseMin(whi).cwiseMax(a.cwiseMax(b)),
-                                           &in_collision));
+    res.polytopes.push_back(
+        inflateSegment(a, b, obstacles, lo.cwiseMax(wlo).cwiseMin(a.cwiseMin(b)),
+                       hi.cwiseMin(whi).cwiseMax(a.cwiseMax(b)), &in_collision));
     if (in_collision) res.status = CorridorStatus::kSeedInCollision;
   }
   return res;
@@ -98,10 +101,9 @@ CorridorResult CorridorBuilder::build(const std::vector<Eigen::Vector3d>& path,
     for (const auto& o : obstacles)
       if ((o.array() >= glo.array()).all() && (o.array() <= ghi.array()).all()) local.push_back(o);
     bool in_collision = false;
-    res.polytopes.push_back(inflateSegment(a, b, local,
-                                           lo.cwiseMax(bound_lo).cwiseMin(a.cwiseMin(b)),
-                                           hi.cwiseMin(bound_hi).cwiseMax(a.cwiseMax(b)),
-                                           &in_collision));
+    res.polytopes.push_back(
+        inflateSegment(a, b, local, lo.cwiseMax(bound_lo).cwiseMin(a.cwiseMin(b)),
+                       hi.cwiseMin(bound_hi).cwiseMax(a.cwiseMax(b)), &in_collision));
     if (in_collision) res.status = CorridorStatus::kSeedInCollision;
   }
   return res;
@@ -201,7 +203,8 @@ bool maxVolumeInscribedEllipsoid(const MatX3& A, const Eigen::VectorXd& b,
         }
       }
       H = 0.5 * (H + H.transpose()).eval();
-      Eigen::LDLT<Eigen::Matrix<double, 9, 9>> ldlt(H + 1e-9 * Eigen::Matrix<double, 9, 9>::Identity());
+      Eigen::LDLT<Eigen::Matrix<double, 9, 9>> ldlt(H +
+                                                    1e-9 * Eigen::Matrix<double, 9, 9>::Identity());
       Vec9 dx = -ldlt.solve(g);
       if (!dx.allFinite() || g.dot(dx) >= 0.0) dx = -g;
       const double decrement = -g.dot(dx);
@@ -265,7 +268,8 @@ Polytope CorridorBuilder::inflateSegment(const Eigen::Vector3d& sa, const Eigen:
     // Remaining obstacles, compacted as planes handle them; each plane costs one pass that also
     // finds the nearest remaining point (in the ellipsoid metric) for the next plane.
     remaining.resize(n);
-    for (int i = 0; i < n; ++i) remaining[i] = {obstacles[i], (Cinv * (obstacles[i] - d)).squaredNorm()};
+    for (int i = 0; i < n; ++i)
+      remaining[i] = {obstacles[i], (Cinv * (obstacles[i] - d)).squaredNorm()};
     int best = -1;
     double best_d = 1e300;
     for (int i = 0; i < n; ++i)

@@ -23,11 +23,16 @@ void LbfgsConfig::validate() const {
 
 const char* toString(LbfgsStatus s) {
   switch (s) {
-    case LbfgsStatus::kConverged: return "converged";
-    case LbfgsStatus::kStalled: return "stalled";
-    case LbfgsStatus::kMaxIterations: return "max_iterations";
-    case LbfgsStatus::kLineSearchFailed: return "line_search_failed";
-    case LbfgsStatus::kNonFinite: return "non_finite";
+    case LbfgsStatus::kConverged:
+      return "converged";
+    case LbfgsStatus::kStalled:
+      return "stalled";
+    case LbfgsStatus::kMaxIterations:
+      return "max_iterations";
+    case LbfgsStatus::kLineSearchFailed:
+      return "line_search_failed";
+    case LbfgsStatus::kNonFinite:
+      return "non_finite";
   }
   return "unknown";
 }

@@ -13,8 +13,8 @@ void LocalGridConfig::validate() const {
   requireInRange("local_grid.size_x_m", size_x_m, 4 * resolution_m, 200.0);
   requireInRange("local_grid.size_y_m", size_y_m, 4 * resolution_m, 200.0);
   requireInRange("local_grid.size_z_m", size_z_m, 4 * resolution_m, 100.0);
-  const double cells = (size_x_m / resolution_m) * (size_y_m / resolution_m) *
-                       (size_z_m / resolution_m);
+  const double cells =
+      (size_x_m / resolution_m) * (size_y_m / resolution_m) * (size_z_m / resolution_m);
   requireThat(cells <= 64e6, "local_grid.size_x_m",
               "window has more than 64 million cells; enlarge resolution_m or shrink the window");
   requireInRange("local_grid.inflation_radius_m", inflation_radius_m, 0.0, 3.0);
@@ -28,10 +28,14 @@ void LocalGridConfig::validate() const {
 
 const char* toString(CellState s) {
   switch (s) {
-    case CellState::kUnknown: return "unknown";
-    case CellState::kFree: return "free";
-    case CellState::kOccupied: return "occupied";
-    case CellState::kOutside: return "outside";
+    case CellState::kUnknown:
+      return "unknown";
+    case CellState::kFree:
+      return "free";
+    case CellState::kOccupied:
+      return "occupied";
+    case CellState::kOutside:
+      return "outside";
   }
   return "?";
 }
@@ -212,7 +216,8 @@ bool LocalGrid::isBlocked(const VoxelKey& k, bool unknown_is_free) const {
 }
 
 bool LocalGrid::isInterior(const VoxelKey& k) const {
-  static const int kOff[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  static const int kOff[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                 {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
   for (const auto& o : kOff) {
     const VoxelKey n{k.x + o[0], k.y + o[1], k.z + o[2]};
     if (!inWindow(n) || !occupied_[index(n)]) return false;

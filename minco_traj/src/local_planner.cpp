@@ -17,12 +17,18 @@ void LocalPlannerConfig::validate() const {
 
 const char* toString(PlanStatus s) {
   switch (s) {
-    case PlanStatus::kOk: return "ok";
-    case PlanStatus::kBadRequest: return "bad_request";
-    case PlanStatus::kStartInCollision: return "start_in_collision";
-    case PlanStatus::kGoalUnreachable: return "goal_unreachable";
-    case PlanStatus::kCorridorFailed: return "corridor_failed";
-    case PlanStatus::kOptimizationFailed: return "optimization_failed";
+    case PlanStatus::kOk:
+      return "ok";
+    case PlanStatus::kBadRequest:
+      return "bad_request";
+    case PlanStatus::kStartInCollision:
+      return "start_in_collision";
+    case PlanStatus::kGoalUnreachable:
+      return "goal_unreachable";
+    case PlanStatus::kCorridorFailed:
+      return "corridor_failed";
+    case PlanStatus::kOptimizationFailed:
+      return "optimization_failed";
   }
   return "?";
 }
@@ -81,8 +87,8 @@ PlanResult LocalPlanner::plan(const LocalGrid& grid, const PlanRequest& req) con
 
   res.trajectory = res.optimization.trajectory;
   const Eigen::Vector3d look = req.has_look_at ? req.look_at_world_m : req.goal_world_m;
-  res.trajectory.setYaw(
-      yaw_.plan(req.yaw_rad, req.yaw_rate_radps, YawPlanner::lookAtYaw(req.p_world_m, look, req.yaw_rad)));
+  res.trajectory.setYaw(yaw_.plan(req.yaw_rad, req.yaw_rate_radps,
+                                  YawPlanner::lookAtYaw(req.p_world_m, look, req.yaw_rad)));
   res.status = PlanStatus::kOk;
   return res;
 }

@@ -57,9 +57,9 @@ namespace {
 // Row of d^order/dt^order [1 t t^2 t^3 t^4 t^5] at t.
 inline void basis(double t, int order, double out[6]) {
   // Falling factorials k!/(k-order)! for order 0..5.
-  static const double kFall[6][6] = {{1, 1, 1, 1, 1, 1},     {0, 1, 2, 3, 4, 5},
-                                     {0, 0, 2, 6, 12, 20},   {0, 0, 0, 6, 24, 60},
-                                     {0, 0, 0, 0, 24, 120},  {0, 0, 0, 0, 0, 120}};
+  static const double kFall[6][6] = {{1, 1, 1, 1, 1, 1},    {0, 1, 2, 3, 4, 5},
+                                     {0, 0, 2, 6, 12, 20},  {0, 0, 0, 6, 24, 60},
+                                     {0, 0, 0, 0, 24, 120}, {0, 0, 0, 0, 0, 120}};
   double tp = 1.0;
   for (int k = 0; k < 6; ++k) {
     if (k < order) {
@@ -132,8 +132,7 @@ double MincoS3::energy() const {
   double e = 0.0;
   for (int i = 0; i < n_; ++i) {
     const double t1 = T_(i), t2 = t1 * t1, t3 = t2 * t1, t4 = t3 * t1, t5 = t4 * t1;
-    const Eigen::RowVector3d c3 = c_.row(6 * i + 3), c4 = c_.row(6 * i + 4),
-                             c5 = c_.row(6 * i + 5);
+    const Eigen::RowVector3d c3 = c_.row(6 * i + 3), c4 = c_.row(6 * i + 4), c5 = c_.row(6 * i + 5);
     e += 36.0 * c3.squaredNorm() * t1 + 144.0 * c3.dot(c4) * t2 +
          (192.0 * c4.squaredNorm() + 240.0 * c3.dot(c5)) * t3 + 720.0 * c4.dot(c5) * t4 +
          720.0 * c5.squaredNorm() * t5;
@@ -144,8 +143,7 @@ double MincoS3::energy() const {
 void MincoS3::addEnergyGrad(Eigen::MatrixXd& gc, Eigen::VectorXd& gT) const {
   for (int i = 0; i < n_; ++i) {
     const double t1 = T_(i), t2 = t1 * t1, t3 = t2 * t1, t4 = t3 * t1, t5 = t4 * t1;
-    const Eigen::RowVector3d c3 = c_.row(6 * i + 3), c4 = c_.row(6 * i + 4),
-                             c5 = c_.row(6 * i + 5);
+    const Eigen::RowVector3d c3 = c_.row(6 * i + 3), c4 = c_.row(6 * i + 4), c5 = c_.row(6 * i + 5);
     gc.row(6 * i + 3) += 72.0 * c3 * t1 + 144.0 * c4 * t2 + 240.0 * c5 * t3;
     gc.row(6 * i + 4) += 144.0 * c3 * t2 + 384.0 * c4 * t3 + 720.0 * c5 * t4;
     gc.row(6 * i + 5) += 240.0 * c3 * t3 + 720.0 * c4 * t4 + 1440.0 * c5 * t5;

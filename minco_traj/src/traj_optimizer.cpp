@@ -18,8 +18,7 @@ void TrajOptConfig::validate() const {
   requirePositive("traj_opt.weight_acceleration", weight_acceleration);
   requireInRange("traj_opt.smoothing_eps", smoothing_eps, 1e-8, 1.0);
   requireInRange("traj_opt.penalty_velocity_fraction", penalty_velocity_fraction, 0.5, 1.0);
-  requireInRange("traj_opt.penalty_acceleration_fraction", penalty_acceleration_fraction, 0.5,
-                 1.0);
+  requireInRange("traj_opt.penalty_acceleration_fraction", penalty_acceleration_fraction, 0.5, 1.0);
   requireInRange("traj_opt.corridor_margin_m", corridor_margin_m, 0.0, 1.0);
   requireInRange("traj_opt.samples_per_piece", samples_per_piece, 2, 1000);
   requireInRange("traj_opt.max_piece_length_m", max_piece_length_m, 0.1, 100.0);
@@ -33,10 +32,14 @@ void TrajOptConfig::validate() const {
 
 const char* toString(TrajOptStatus s) {
   switch (s) {
-    case TrajOptStatus::kOk: return "ok";
-    case TrajOptStatus::kBadInput: return "bad_input";
-    case TrajOptStatus::kOptimizerFailed: return "optimizer_failed";
-    case TrajOptStatus::kInfeasible: return "infeasible";
+    case TrajOptStatus::kOk:
+      return "ok";
+    case TrajOptStatus::kBadInput:
+      return "bad_input";
+    case TrajOptStatus::kOptimizerFailed:
+      return "optimizer_failed";
+    case TrajOptStatus::kInfeasible:
+      return "infeasible";
   }
   return "?";
 }
@@ -105,7 +108,8 @@ double MincoCorridorCost::operator()(const Eigen::VectorXd& x, Eigen::VectorXd& 
   const double vpen = cfg_.penalty_velocity_fraction * cfg_.v_max_mps;
   const double apen = cfg_.penalty_acceleration_fraction * cfg_.a_max_mps2;
   const double vpen2 = vpen * vpen, apen2 = apen * apen, eps = cfg_.smoothing_eps;
-  const double wc = cfg_.weight_corridor * penalty_scale_, wv = cfg_.weight_velocity * penalty_scale_,
+  const double wc = cfg_.weight_corridor * penalty_scale_,
+               wv = cfg_.weight_velocity * penalty_scale_,
                wa = cfg_.weight_acceleration * penalty_scale_;
   double b0[6], b1[6], b2[6], b3[6];
   for (int i = 0; i < n_; ++i) {
@@ -118,10 +122,30 @@ double MincoCorridorCost::operator()(const Eigen::VectorXd& x, Eigen::VectorXd& 
       const double s = double(j) / K, t = s * T;
       const double omega = (j == 0 || j == K) ? 0.5 : 1.0;
       const double t2 = t * t, t3 = t2 * t, t4 = t3 * t, t5 = t4 * t;
-      b0[0] = 1; b0[1] = t; b0[2] = t2; b0[3] = t3; b0[4] = t4; b0[5] = t5;
-      b1[0] = 0; b1[1] = 1; b1[2] = 2 * t; b1[3] = 3 * t2; b1[4] = 4 * t3; b1[5] = 5 * t4;
-      b2[0] = 0; b2[1] = 0; b2[2] = 2; b2[3] = 6 * t; b2[4] = 12 * t2; b2[5] = 20 * t3;
-      b3[0] = 0; b3[1] = 0; b3[2] = 0; b3[3] = 6; b3[4] = 24 * t; b3[5] = 60 * t2;
+      b0[0] = 1;
+      b0[1] = t;
+      b0[2] = t2;
+      b0[3] = t3;
+      b0[4] = t4;
+      b0[5] = t5;
+      b1[0] = 0;
+      b1[1] = 1;
+      b1[2] = 2 * t;
+      b1[3] = 3 * t2;
+      b1[4] = 4 * t3;
+      b1[5] = 5 * t4;
+      b2[0] = 0;
+      b2[1] = 0;
+      b2[2] = 2;
+      b2[3] = 6 * t;
+      b2[4] = 12 * t2;
+      b2[5] = 20 * t3;
+      b3[0] = 0;
+      b3[1] = 0;
+      b3[2] = 0;
+      b3[3] = 6;
+      b3[4] = 24 * t;
+      b3[5] = 60 * t2;
       const Eigen::Vector3d p = ci.transpose() * Eigen::Map<const Eigen::Matrix<double, 6, 1>>(b0);
       const Eigen::Vector3d v = ci.transpose() * Eigen::Map<const Eigen::Matrix<double, 6, 1>>(b1);
       const Eigen::Vector3d a = ci.transpose() * Eigen::Map<const Eigen::Matrix<double, 6, 1>>(b2);
@@ -225,12 +249,14 @@ TrajOptResult TrajOptimizer::optimize(const Eigen::Matrix3d& head, const Eigen::
   for (size_t k = 0; k < corridor.size(); ++k) {
     const auto& poly = corridor[k];
     const Eigen::Vector3d a = k == 0 ? Eigen::Vector3d(head.col(0)) : poly.seed_start_m;
-    const Eigen::Vector3d b = k + 1 == corridor.size() ? Eigen::Vector3d(tail.col(0))
-                                                       : poly.seed_end_m;
-    const int m = std::max(1, static_cast<int>(std::ceil((b - a).norm() / cfg_.max_piece_length_m)));
+    const Eigen::Vector3d b =
+        k + 1 == corridor.size() ? Eigen::Vector3d(tail.col(0)) : poly.seed_end_m;
+    const int m =
+        std::max(1, static_cast<int>(std::ceil((b - a).norm() / cfg_.max_piece_length_m)));
     for (int j = 0; j < m; ++j) {
       pp.push_back(static_cast<int>(k));
-      if (!(k + 1 == corridor.size() && j + 1 == m)) joints.push_back(a + (b - a) * double(j + 1) / m);
+      if (!(k + 1 == corridor.size() && j + 1 == m))
+        joints.push_back(a + (b - a) * double(j + 1) / m);
     }
   }
   const int n = static_cast<int>(pp.size());

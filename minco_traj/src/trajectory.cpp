@@ -19,8 +19,7 @@ double YawProfile::duration() const {
   return d;
 }
 
-void YawProfile::sample(double t_s, double* yaw_rad, double* rate_radps,
-                        double* acc_radps2) const {
+void YawProfile::sample(double t_s, double* yaw_rad, double* rate_radps, double* acc_radps2) const {
   double y = hold_yaw_rad_, r = 0.0, a = 0.0;
   t_s = std::max(0.0, t_s);
   if (!segments_.empty()) {

@@ -42,8 +42,8 @@ TEST(Corridor, ContainsSeedPathKeepsClearanceAndChainsOverlap) {
   CorridorBuilder builder(cfg);
   for (unsigned seed = 1; seed <= 5; ++seed) {
     const Scene s = randomScene(seed, cfg.clearance_m);
-    const auto res = builder.build(s.path, s.obstacles, Eigen::Vector3d(-5, -5, -2),
-                                   Eigen::Vector3d(15, 15, 5));
+    const auto res =
+        builder.build(s.path, s.obstacles, Eigen::Vector3d(-5, -5, -2), Eigen::Vector3d(15, 15, 5));
     ASSERT_TRUE(res.ok()) << toString(res.status);
     ASSERT_GE(res.polytopes.size(), 3u);
     for (size_t k = 0; k < res.polytopes.size(); ++k) {
@@ -76,8 +76,8 @@ TEST(Corridor, RegionGrowsIntoFreeSpace) {
   CorridorConfig cfg;
   cfg.clearance_m = 0.2;
   cfg.box_margin_m = 2.0;
-  const auto res = CorridorBuilder(cfg).build({{0, 0, 1}, {2, 0, 1}}, wall,
-                                              Eigen::Vector3d(-3, -3, -1), Eigen::Vector3d(5, 3, 3));
+  const auto res = CorridorBuilder(cfg).build(
+      {{0, 0, 1}, {2, 0, 1}}, wall, Eigen::Vector3d(-3, -3, -1), Eigen::Vector3d(5, 3, 3));
   ASSERT_TRUE(res.ok());
   const Polytope& p = res.polytopes[0];
   EXPECT_TRUE(p.contains({1, 0.75, 1}));

@@ -37,7 +37,7 @@ TEST(LocalGrid, RayCastingSeparatesFreeUnknownAndOccupied) {
   EXPECT_TRUE(g.isInflated(g.key(Eigen::Vector3d(0.85, 0.05, 0.05))));
   EXPECT_TRUE(g.isInflated(g.key(Eigen::Vector3d(1.05, 0.25, 0.05))));
   EXPECT_FALSE(g.isInflated(g.key(Eigen::Vector3d(0.65, 0.05, 0.05))));
-  EXPECT_TRUE(g.isBlocked(g.key(Eigen::Vector3d(0.0, 0.55, 0.05)), false));   // unknown
+  EXPECT_TRUE(g.isBlocked(g.key(Eigen::Vector3d(0.0, 0.55, 0.05)), false));  // unknown
   EXPECT_FALSE(g.isBlocked(g.key(Eigen::Vector3d(0.0, 0.55, 0.05)), true));
   EXPECT_EQ(g.occupiedCount(), 1u);
 }

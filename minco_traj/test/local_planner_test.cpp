@@ -74,8 +74,9 @@ TEST(LocalPlanner, PredictsCollisionWithNewObstacles) {
   const double t_hit = LocalPlanner::firstCollisionTime(r.trajectory, grid, 0.0, 100.0);
   EXPECT_GT(t_hit, 0.0);
   EXPECT_LT(t_hit, 0.5 * r.trajectory.duration() + 0.05);
-  EXPECT_LT(LocalPlanner::firstCollisionTime(r.trajectory, grid, 0.0, 0.2 * r.trajectory.duration()),
-            0.0);  // beyond the horizon: no trigger yet
+  EXPECT_LT(
+      LocalPlanner::firstCollisionTime(r.trajectory, grid, 0.0, 0.2 * r.trajectory.duration()),
+      0.0);  // beyond the horizon: no trigger yet
 }
 
 TEST(LocalPlanner, MovingStartAndGoalInsideObstacle) {

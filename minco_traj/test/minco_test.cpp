@@ -215,8 +215,8 @@ TEST(TrajOptimizer, RefusesBadInput) {
                           pva({5, 5, 1}, {0, 0, 0}, {0, 0, 0}), corridor);
   EXPECT_EQ(res.status, TrajOptStatus::kBadInput);
   EXPECT_TRUE(res.trajectory.empty());
-  res = opt.optimize(pva({0, 0, 1}, {0, 0, 0}, {0, 0, 0}), pva({5, 5, 1}, {0, 0, 0}, {0, 0, 0}),
-                     {});
+  res =
+      opt.optimize(pva({0, 0, 1}, {0, 0, 0}, {0, 0, 0}), pva({5, 5, 1}, {0, 0, 0}, {0, 0, 0}), {});
   EXPECT_EQ(res.status, TrajOptStatus::kBadInput);
 }
 

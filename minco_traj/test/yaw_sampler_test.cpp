@@ -31,7 +31,9 @@ void expectWithinLimits(const YawProfile& prof, const YawPlannerConfig& cfg) {
 TEST(YawPlanner, ReachesTargetTheShortWayWithinLimits) {
   YawPlannerConfig cfg;
   YawPlanner yp(cfg);
-  struct Case { double y0, r0, target; };
+  struct Case {
+    double y0, r0, target;
+  };
   for (const Case& c : {Case{0, 0, 3.0}, Case{3.0, 0, -3.0}, Case{0, 3.9, -1.0}, Case{0, -4.0, 0.1},
                         Case{1.0, 0, 1.0}, Case{0, 0, 0.05}}) {
     const YawProfile prof = yp.plan(c.y0, c.r0, c.target);

@@ -35,10 +35,14 @@ void Se3ControllerConfig::validate() const {
 
 const char* toString(ControlMode m) {
   switch (m) {
-    case ControlMode::kTracking: return "tracking";
-    case ControlMode::kHoldPosition: return "hold_position";
-    case ControlMode::kLevelDescend: return "level_descend";
-    case ControlMode::kNoOdometry: return "no_odometry";
+    case ControlMode::kTracking:
+      return "tracking";
+    case ControlMode::kHoldPosition:
+      return "hold_position";
+    case ControlMode::kLevelDescend:
+      return "level_descend";
+    case ControlMode::kNoOdometry:
+      return "no_odometry";
   }
   return "?";
 }
@@ -67,7 +71,8 @@ Eigen::Vector3d bodyRatesFromJerk(const Eigen::Matrix3d& R, const Eigen::Vector3
   const Eigen::Vector3d x = R.col(0), y = R.col(1), z = R.col(2);
   // Rate of the thrust direction: z_dot = (fdot - z (z . fdot)) / c = omega_y x - omega_x y.
   const Eigen::Vector3d zdot = (fdot - z * z.dot(fdot)) / c;
-  const Eigen::Vector3d xc(std::cos(yaw), std::sin(yaw), 0.0), yc(-std::sin(yaw), std::cos(yaw), 0.0);
+  const Eigen::Vector3d xc(std::cos(yaw), std::sin(yaw), 0.0),
+      yc(-std::sin(yaw), std::cos(yaw), 0.0);
   const Eigen::Vector3d u = z.cross(xc);
   const double nu = u.norm();
   double wz = 0.0;
@@ -116,13 +121,13 @@ void Se3Controller::reset() {
   last_thrust_cmd_ = 0.0;
 }
 
-void Se3Controller::observeAcceleration(const Eigen::Vector3d& a_world,
-                                        const Eigen::Quaterniond& q, double dt_s) {
+void Se3Controller::observeAcceleration(const Eigen::Vector3d& a_world, const Eigen::Quaterniond& q,
+                                        double dt_s) {
   if (!(dt_s > 0.0) || !a_world.allFinite() || !q.coeffs().allFinite() || last_thrust_cmd_ <= 0.0)
     return;
   const double g = cfg_.gravity_mps2;
   const double r33 = q.normalized().toRotationMatrix()(2, 2);
-  const double vertical = a_world.z() + g;  // = (u / hover) g r33 for normalised thrust u
+  const double vertical = a_world.z() + g;      // = (u / hover) g r33 for normalised thrust u
   if (r33 < 0.7 || vertical < 0.3 * g) return;  // far from the regime the model describes
   const double measured = last_thrust_cmd_ * g * r33 / vertical;
   const double alpha = dt_s / (cfg_.hover_estimator_time_constant_s + dt_s);
@@ -130,8 +135,8 @@ void Se3Controller::observeAcceleration(const Eigen::Vector3d& a_world,
                                cfg_.hover_throttle_min, cfg_.hover_throttle_max);
 }
 
-void Se3Controller::fillOutputs(const OdometryState& odom, const Eigen::Vector3d& f_acc,
-                                double yaw, const Eigen::Vector3d& omega_d, ControlOutput& out) {
+void Se3Controller::fillOutputs(const OdometryState& odom, const Eigen::Vector3d& f_acc, double yaw,
+                                const Eigen::Vector3d& omega_d, ControlOutput& out) {
   const Eigen::Matrix3d Rd = attitudeFromThrust(f_acc, yaw);
   const Eigen::Matrix3d R = odom.q_world_body.normalized().toRotationMatrix();
   const Eigen::Vector3d F = cfg_.mass_kg * f_acc;
@@ -188,7 +193,8 @@ ControlOutput Se3Controller::levelDescend(double now_s) {
     descent_start_s_ = now_s;
   }
   const double elapsed = now_s - descent_start_s_;
-  const double ramp_s = cfg_.descent_accel_mps2 > 0.0 ? cfg_.descent_speed_mps / cfg_.descent_accel_mps2 : 0.0;
+  const double ramp_s =
+      cfg_.descent_accel_mps2 > 0.0 ? cfg_.descent_speed_mps / cfg_.descent_accel_mps2 : 0.0;
   const double down = elapsed < ramp_s ? cfg_.descent_accel_mps2 : 0.0;
   ControlOutput out;
   out.mode = ControlMode::kLevelDescend;
@@ -205,7 +211,8 @@ ControlOutput Se3Controller::update(const OdometryState& odom, const FlatReferen
   const bool odom_ok = finite(odom);
   if (odom_ok) {
     if (odom.has_acceleration && odom.a_world_mps2.allFinite()) {
-      if (have_acc_stamp_) observeAcceleration(odom.a_world_mps2, odom.q_world_body, odom.stamp_s - last_acc_stamp_s_);
+      if (have_acc_stamp_)
+        observeAcceleration(odom.a_world_mps2, odom.q_world_body, odom.stamp_s - last_acc_stamp_s_);
       last_acc_stamp_s_ = odom.stamp_s;
       have_acc_stamp_ = true;
     }

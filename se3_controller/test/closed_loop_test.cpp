@@ -32,8 +32,7 @@ struct RigidBody {
     const double f = std::max(0.0, c.force_world_N.dot(R.col(2)));
     const Eigen::Vector3d eR = 0.5 * vee(Rd.transpose() * R - R.transpose() * Rd);
     const Eigen::Vector3d eW = w - R.transpose() * Rd * c.angular_velocity_body_radps;
-    const Eigen::Vector3d M =
-        -c.kR.cwiseProduct(eR) - c.kOm.cwiseProduct(eW) + w.cross(J * w);
+    const Eigen::Vector3d M = -c.kR.cwiseProduct(eR) - c.kOm.cwiseProduct(eW) + w.cross(J * w);
     const Eigen::Vector3d wdot = J.inverse() * (M - w.cross(J * w));
     const Eigen::Vector3d acc = f / mass_kg * R.col(2) - Eigen::Vector3d(0, 0, g);
     v += acc * dt;
@@ -89,7 +88,8 @@ TEST(ClosedLoop, HoverHoldsWithinFiveCentimetres) {
     r.yaw_rad = 0.5;
     return r;
   };
-  fly(ctrl, body, ref, 6.0, 0.0, [](double, RigidBody&) {}, &max_err);
+  fly(
+      ctrl, body, ref, 6.0, 0.0, [](double, RigidBody&) {}, &max_err);
   EXPECT_LT(max_err, 0.05);
   EXPECT_LT((body.p - target).norm(), 0.005);
   const Eigen::Vector3d x = body.R.col(0);
@@ -126,7 +126,8 @@ TEST(ClosedLoop, FigureEightAtThreeMetresPerSecond) {
                .R_world_body;
   const double period = 2 * M_PI / w;
   double max_err = 0;
-  const double rms = fly(ctrl, body, ref, period + 1.0, 1.0, [](double, RigidBody&) {}, &max_err);
+  const double rms = fly(
+      ctrl, body, ref, period + 1.0, 1.0, [](double, RigidBody&) {}, &max_err);
   RecordProperty("rms_error_m", std::to_string(rms));
   EXPECT_LT(rms, 0.10);
   EXPECT_LT(max_err, 0.2);

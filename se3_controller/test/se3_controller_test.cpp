@@ -100,8 +100,10 @@ TEST(Flatness, BodyRatesMatchNumericalDifferentiation) {
   const double g = 9.81, h = 1e-6;
   for (double t = 0.0; t < 6.0; t += 0.37) {
     const FlatAttitude f = flatAttitude(a(t), j(t), yaw(t), yawdot(t), g);
-    const Eigen::Matrix3d Rp = flatAttitude(a(t + h), j(t + h), yaw(t + h), yawdot(t + h), g).R_world_body;
-    const Eigen::Matrix3d Rm = flatAttitude(a(t - h), j(t - h), yaw(t - h), yawdot(t - h), g).R_world_body;
+    const Eigen::Matrix3d Rp =
+        flatAttitude(a(t + h), j(t + h), yaw(t + h), yawdot(t + h), g).R_world_body;
+    const Eigen::Matrix3d Rm =
+        flatAttitude(a(t - h), j(t - h), yaw(t - h), yawdot(t - h), g).R_world_body;
     const Eigen::Matrix3d W = f.R_world_body.transpose() * (Rp - Rm) / (2 * h);
     const Eigen::Vector3d w_num(0.5 * (W(2, 1) - W(1, 2)), 0.5 * (W(0, 2) - W(2, 0)),
                                 0.5 * (W(1, 0) - W(0, 1)));
@@ -128,7 +130,7 @@ TEST(Safety, StaleOdometryLevelsAndDescendsGently) {
   EXPECT_NE(out.reason.find("odometry stale"), std::string::npos);
   const Eigen::Matrix3d Rd = out.so3.orientation.toRotationMatrix();
   EXPECT_LT((Rd.col(2) - Eigen::Vector3d::UnitZ()).norm(), 1e-12);  // level
-  EXPECT_NEAR(std::atan2(Rd(1, 0), Rd(0, 0)), 0.7, 1e-9);            // keeps the last heading
+  EXPECT_NEAR(std::atan2(Rd(1, 0), Rd(0, 0)), 0.7, 1e-9);           // keeps the last heading
   const double mg = cfg.mass_kg * cfg.gravity_mps2;
   EXPECT_NEAR(out.so3.force_world_N.z(), cfg.mass_kg * (cfg.gravity_mps2 - cfg.descent_accel_mps2),
               1e-12);

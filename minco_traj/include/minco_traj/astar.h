@@ -11,6 +11,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "minco_traj/local_grid.h"
@@ -24,6 +25,9 @@ struct AStarConfig {
   double start_escape_radius_m = 0.6;
   int max_expansions = 400000;
   bool shortcut = true;
+  /// 1 keeps A* optimal; > 1 (weighted A*) trades path length (at most this factor) for far
+  /// fewer expansions in cluttered 3D space.
+  double heuristic_weight = 1.0;
   void validate() const;
 };
 
@@ -49,6 +53,7 @@ struct AStarResult {
   bool ok() const { return status == AStarStatus::kSuccess; }
 };
 
+/// Not thread-safe: plan() reuses per-cell scratch arrays sized to the grid window.
 class AStarPlanner {
  public:
   explicit AStarPlanner(const AStarConfig& cfg = {});
@@ -61,6 +66,9 @@ class AStarPlanner {
 
  private:
   AStarConfig cfg_;
+  mutable std::vector<uint32_t> stamp_;
+  mutable std::vector<int32_t> node_of_;
+  mutable uint32_t search_id_ = 0;
 };
 
 }  // namespace efs::traj

@@ -7,12 +7,12 @@
 //   1. Half-space step. Obstacle points (occupied cell centres) are visited in order of their
 //      distance to the current ellipsoid E = {C u + d : |u| <= 1} in E's own metric. The nearest
 //      unhandled point o gets the plane tangent to the scaled ellipsoid through o (IRIS). If that
-//      plane, moved inward by clearance_m, would cut the seed segment, the plane through o perpendicular to the segment-to-o
-//      direction is used instead (FIRI's requirement that the seed stays inside). All points on or
-//      beyond the plane are handled. Each plane is then moved inward by clearance_m, but never past
-//      the seed (the polytope is flagged clearance_reduced when that limit binds).
-//      Obstacles up to clearance_m outside the seed's box are included, so the box faces keep the
-//      clearance too.
+//      plane, moved inward by clearance_m, would cut the seed segment, the plane through o
+//      perpendicular to the segment-to-o direction is used instead (FIRI's requirement that the
+//      seed stays inside). All points on or beyond the plane are handled. Each plane is then moved
+//      inward by clearance_m, but never past the seed (the polytope is flagged clearance_reduced
+//      when that limit binds). Obstacles up to clearance_m outside the seed's box are included, so
+//      the box faces keep the clearance too.
 //   2. Ellipsoid step. The maximum-volume ellipsoid inscribed in the polytope, by a log-barrier
 //      Newton method on (L lower triangular, d): maximise log det L s.t. |L^T a_i| + a_i.d <= b_i.
 // Guarantees by construction: the seed segment lies in its polytope, every obstacle point is at

@@ -47,7 +47,9 @@ class LocalGrid {
   Eigen::Vector3d center(const VoxelKey& k) const { return voxelCenter(k, cfg_.resolution_m); }
   /// Inclusive key range of the window.
   VoxelKey minKey() const { return min_key_; }
-  VoxelKey maxKey() const { return {min_key_.x + nx_ - 1, min_key_.y + ny_ - 1, min_key_.z + nz_ - 1}; }
+  VoxelKey maxKey() const {
+    return {min_key_.x + nx_ - 1, min_key_.y + ny_ - 1, min_key_.z + nz_ - 1};
+  }
   Eigen::Vector3d windowMin() const;  ///< lower corner of the window [m]
   Eigen::Vector3d windowMax() const;  ///< upper corner of the window [m]
   bool inWindow(const VoxelKey& k) const;

@@ -21,7 +21,13 @@
 namespace efs::traj {
 
 struct LocalPlannerConfig {
-  AStarConfig astar;
+  /// Weighted A* (1.5) by default: in cluttered 3D space it expands ~100x fewer cells for paths a
+  /// few percent longer, and the corridor + optimiser smooth the result anyway.
+  AStarConfig astar = [] {
+    AStarConfig c;
+    c.heuristic_weight = 1.5;
+    return c;
+  }();
   CorridorConfig corridor;
   TrajOptConfig optimizer;
   YawPlannerConfig yaw;
@@ -44,11 +50,11 @@ struct PlanRequest {
 
 enum class PlanStatus {
   kOk,
-  kBadRequest,          ///< non-finite state or goal
-  kStartInCollision,    ///< no escape from the start within the escape radius
-  kGoalUnreachable,     ///< goal refused or no path (front_end.status says which)
-  kCorridorFailed,      ///< the seed path could not be enclosed
-  kOptimizationFailed   ///< no trajectory passed the final check
+  kBadRequest,         ///< non-finite state or goal
+  kStartInCollision,   ///< no escape from the start within the escape radius
+  kGoalUnreachable,    ///< goal refused or no path (front_end.status says which)
+  kCorridorFailed,     ///< the seed path could not be enclosed
+  kOptimizationFailed  ///< no trajectory passed the final check
 };
 const char* toString(PlanStatus s);
 

@@ -30,17 +30,17 @@ struct TrajOptConfig {
   double weight_corridor = 1e4;
   double weight_velocity = 1e4;
   double weight_acceleration = 1e4;
-  double smoothing_eps = 1e-2;        ///< width of the smoothed-L1 knee
+  double smoothing_eps = 1e-2;  ///< width of the smoothed-L1 knee
   double penalty_velocity_fraction = 0.97;
   double penalty_acceleration_fraction = 0.95;
-  double corridor_margin_m = 0.02;    ///< penalties keep samples this far inside
+  double corridor_margin_m = 0.02;  ///< penalties keep samples this far inside
   int samples_per_piece = 12;
-  double max_piece_length_m = 3.0;    ///< long seeds get several pieces in their polytope
+  double max_piece_length_m = 3.0;  ///< long seeds get several pieces in their polytope
   double initial_speed_fraction = 0.6;
   int max_retries = 2;
   // Feasibility check of the result.
   double check_dt_s = 0.01;
-  double velocity_tolerance = 0.02;   ///< v <= v_max * (1 + this)
+  double velocity_tolerance = 0.02;  ///< v <= v_max * (1 + this)
   double corridor_tolerance_m = 1e-3;
   LbfgsConfig lbfgs;
   void validate() const;

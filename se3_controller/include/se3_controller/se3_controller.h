@@ -96,24 +96,24 @@ struct AttitudeTargetOut {
 };
 
 enum class ControlMode {
-  kTracking,        ///< following the reference
-  kHoldPosition,    ///< reference stale or invalid: hovering at the latched position
-  kLevelDescend,    ///< odometry stale: level attitude, gentle descent
-  kNoOdometry       ///< nothing valid received yet: motors idle
+  kTracking,      ///< following the reference
+  kHoldPosition,  ///< reference stale or invalid: hovering at the latched position
+  kLevelDescend,  ///< odometry stale: level attitude, gentle descent
+  kNoOdometry     ///< nothing valid received yet: motors idle
 };
 const char* toString(ControlMode m);
 
 struct ControlOutput {
   ControlMode mode = ControlMode::kNoOdometry;
-  std::string reason;  ///< why the mode is not kTracking (empty when tracking)
+  std::string reason;              ///< why the mode is not kTracking (empty when tracking)
   bool odometry_rejected = false;  ///< this call's odometry was invalid and ignored
   So3CommandOut so3;
   AttitudeTargetOut attitude;
   Eigen::Vector3d position_error_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity_error_mps = Eigen::Vector3d::Zero();
-  Eigen::Vector3d attitude_error = Eigen::Vector3d::Zero();  ///< e_R = vee(Rd^T R - R^T Rd)/2
+  Eigen::Vector3d attitude_error = Eigen::Vector3d::Zero();    ///< e_R = vee(Rd^T R - R^T Rd)/2
   Eigen::Vector3d rate_error_radps = Eigen::Vector3d::Zero();  ///< Omega - R^T Rd Omega_d
-  double collective_thrust_N = 0.0;  ///< thrust along the current body z
+  double collective_thrust_N = 0.0;                            ///< thrust along the current body z
 };
 
 /// Attitude, body rates and mass-normalised collective thrust from a flat reference (no
