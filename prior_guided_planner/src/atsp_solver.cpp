@@ -369,12 +369,12 @@ class LocalSearch {
 };
 
 std::vector<int> iteratedLocalSearch(const Work& wk, const AtspConfig& cfg, uint64_t seed,
-                                     int* kicks_done) {
+                                     int* kicks_done, const std::vector<int>* initial) {
   const int n = wk.n;
   std::unique_ptr<Assignment> ap;
-  if (cfg.assignment_start) ap = std::make_unique<Assignment>(solveAssignment(wk));
+  if (cfg.assignment_start && !initial) ap = std::make_unique<Assignment>(solveAssignment(wk));
   LocalSearch ls(wk, cfg.neighbours, ap.get());
-  ls.setTour(ap ? patchCycles(wk, ap->succ) : ls.nearestNeighbourTour());
+  ls.setTour(initial ? *initial : ap ? patchCycles(wk, ap->succ) : ls.nearestNeighbourTour());
   ls.pushAll();
   ls.optimise();
   std::vector<int> best = ls.tour(), saved;
@@ -407,9 +407,9 @@ std::vector<int> rotateTo(const std::vector<int>& t, int first) {
 }
 
 std::vector<int> solveWork(const Work& wk, const AtspConfig& cfg, uint64_t seed, bool exact,
-                           int* kicks) {
+                           int* kicks, const std::vector<int>* initial = nullptr) {
   if (exact || wk.n <= 3) return heldKarp(wk);
-  return iteratedLocalSearch(wk, cfg, seed, kicks);
+  return iteratedLocalSearch(wk, cfg, seed, kicks, initial);
 }
 
 }  // namespace
@@ -428,20 +428,35 @@ AtspResult AtspSolver::solveTour(const CostMatrix& c, uint64_t seed) const {
   return r;
 }
 
-AtspResult AtspSolver::solveOpenPath(const CostMatrix& c, int start, int end, uint64_t seed) const {
+AtspResult AtspSolver::solveOpenPath(const CostMatrix& c, int start, int end, uint64_t seed,
+                                     const std::vector<int>* initial_order) const {
   checkMatrix(c);
   const int n = c.size();
   if (start < 0 || start >= n || end < kFreeEnd || end >= n || end == start)
     throw std::invalid_argument("AtspSolver::solveOpenPath: bad start " + std::to_string(start) +
                                 " / end " + std::to_string(end) + " for " + std::to_string(n) +
                                 " nodes");
+  if (initial_order) {
+    std::vector<int> chk = *initial_order;
+    std::sort(chk.begin(), chk.end());
+    bool ok = static_cast<int>(chk.size()) == n && !chk.empty() && initial_order->front() == start &&
+              (end == kFreeEnd || initial_order->back() == end);
+    for (int i = 0; ok && i < n; ++i) ok = chk[i] == i;
+    if (!ok) throw std::invalid_argument("AtspSolver::solveOpenPath: initial order is not a path from start");
+  }
   AtspResult r;
   r.exact = n <= config_.exact_max_nodes;
+  std::vector<int> warm;
+  if (initial_order && !r.exact) {
+    warm = *initial_order;
+    if (end != kFreeEnd) warm.push_back(n);  // the dummy closes end -> D -> start
+  }
+  const std::vector<int>* init = warm.empty() ? nullptr : &warm;
   if (end == kFreeEnd) {
     // Every edge back to the start is free: the closing edge of the tour costs nothing.
     Work wk = makeWork(c, 0);
     for (int i = 0; i < n; ++i) wk.at(i, start) = 0.0;
-    r.order = rotateTo(solveWork(wk, config_, seed, r.exact, &r.kicks), start);
+    r.order = rotateTo(solveWork(wk, config_, seed, r.exact, &r.kicks, init), start);
   } else {
     // Dummy node D: end -> D -> start are free, every other edge at D is forbidden with a
     // weight above any tour of ordinary (even unreachable) edges.
@@ -451,7 +466,7 @@ AtspResult AtspSolver::solveOpenPath(const CostMatrix& c, int start, int end, ui
     for (int i = 0; i < n; ++i) wk.at(i, dn) = wk.at(dn, i) = forbid;
     wk.at(end, dn) = 0.0;
     wk.at(dn, start) = 0.0;
-    std::vector<int> t = rotateTo(solveWork(wk, config_, seed, r.exact, &r.kicks), start);
+    std::vector<int> t = rotateTo(solveWork(wk, config_, seed, r.exact, &r.kicks, init), start);
     t.erase(std::remove(t.begin(), t.end(), dn), t.end());
     r.order = t;
   }

@@ -67,7 +67,10 @@ class AtspSolver {
   AtspResult solveOpenPath(const CostMatrix& c, int start, int end) const {
     return solveOpenPath(c, start, end, config_.seed);
   }
-  AtspResult solveOpenPath(const CostMatrix& c, int start, int end, uint64_t seed) const;
+  /// `initial_order`, if given, is a warm start: a permutation of all nodes beginning with
+  /// `start` (and ending with `end` when it is fixed); the assignment start is then skipped.
+  AtspResult solveOpenPath(const CostMatrix& c, int start, int end, uint64_t seed,
+                           const std::vector<int>* initial_order = nullptr) const;
 
   const AtspConfig& config() const { return config_; }
 

@@ -1,0 +1,68 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// Local coverage path planning (paper Sec. VI-D): the FE-TSP ("fixed-end" TSP) from the robot
+// X_r through the isolated and target viewpoints to the terminal node G_t (the second next
+// guidepoint of the selected prior sequence), turned into an ATSP with the dummy node G_v.
+// Matrix layout: 0 = X_r, 1..N = viewpoints, N+1 = G_t, N+2 = G_v. Costs are times [s]:
+//   J(X_r, V_i) = max(L / v_max, dyaw / omega_max) + U(V_i),  U = beta_e * dyaw / omega_max for
+//                 isolated viewpoints (beta_e < 0 makes them urgent), 0 otherwise;
+//   J(V_i, V_j) = L(V_i, V_j) / v_max;   J(V_j, G_t) = |p_j - p_t|_xy / v_max;
+//   J(V_i, X_r) = 0;  J(G_t, G_v) = J(G_v, X_r) = 0;  J(G_t, V_j) = J(X_r, G_v) = J(G_v, G_t)
+//   = J(G_v, V) = J(V, G_v) = J(X_r, G_t) = J(G_t, X_r) = kUnreachable.
+// Without a terminal (sequence too short) the tour is open-ended: the rows end at X_r for free.
+// The prior-free fallback (EPIC-like) is the same cost model over all viewpoints, no urgency,
+// no terminal. Viewpoints the robot cannot reach (L(X_r, V) = kUnreachable) are left out and
+// reported.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "prior_guided_planner/atsp_solver.h"
+#include "prior_guided_planner/planner_types.h"
+
+namespace efs::planner {
+
+struct FeTspConfig {
+  double v_max_mps = 4.0;        ///< paper Table: 4 m/s
+  double omega_max_radps = 4.0;  ///< paper Table: 4 rad/s
+  double beta_e = -0.2;          ///< urgency weight (paper Table: -0.2)
+  AtspConfig atsp;
+  void validate() const;
+};
+
+struct RobotPose {
+  Eigen::Vector3d position_world_m = Eigen::Vector3d::Zero();
+  double yaw_rad = 0.0;
+};
+
+struct LocalTour {
+  /// Viewpoint indices (into the input vector) in visiting order.
+  std::vector<int> viewpoints;
+  /// Total time cost [s] of the tour on the FE-TSP matrix (ends at G_t when there is one).
+  double cost_s = 0.0;
+  bool has_terminal = false;
+  Eigen::Vector2d terminal_world_m = Eigen::Vector2d::Zero();
+  bool feasible = true;
+  /// Requested viewpoints left out because L(X_r, V) is unreachable.
+  std::vector<int> unreachable_viewpoints;
+};
+
+/// The FE-TSP matrix over `robot`, `viewpoints[selected[k]]` (node k+1) and the terminal; node
+/// k+1 is isolated iff `isolated[k]`. Exposed for tests.
+CostMatrix buildFeTspMatrix(const RobotPose& robot, const std::vector<PlanViewpoint>& viewpoints,
+                            const std::vector<int>& selected, const std::vector<bool>& isolated,
+                            const std::optional<Eigen::Vector2d>& terminal_world_m,
+                            const PathLengthFn& path_length_m, const FeTspConfig& config);
+
+/// FE-TSP over the isolated and target viewpoints to the terminal (std::nullopt: free end).
+LocalTour solveFeTsp(const RobotPose& robot, const std::vector<PlanViewpoint>& viewpoints,
+                     const std::vector<int>& isolated, const std::vector<int>& target,
+                     const std::optional<Eigen::Vector2d>& terminal_world_m,
+                     const PathLengthFn& path_length_m, const FeTspConfig& config);
+
+/// Prior-free fallback: ATSP over all viewpoints from the robot, same cost model, free end.
+LocalTour solvePriorFreeTour(const RobotPose& robot, const std::vector<PlanViewpoint>& viewpoints,
+                             const PathLengthFn& path_length_m, const FeTspConfig& config);
+
+}  // namespace efs::planner

@@ -1,0 +1,81 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// One planning cycle of the paper's Algorithm 2 over abstract inputs: per usable hypothesis
+// TransformVps + AttachVps + states + MCTS; GroupVps; CalcRisk (more than one hypothesis) and
+// SelectPriSeq; FE-TSP to the second next guidepoint. Falls back to the prior-free tour when
+// there is no prior, no usable hypothesis, or no target group; reports "no viewpoints" so the
+// caller can terminate the exploration.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "prior_guided_planner/baseline_mode.h"
+#include "prior_guided_planner/fe_tsp.h"
+#include "prior_guided_planner/sequence_selection.h"
+
+namespace efs::planner {
+
+struct HierarchicalPlannerConfig {
+  BaselineMode mode = BaselineMode::kProposed;
+  AttachmentConfig attachment;
+  SequencingConfig sequencing;
+  MctsConfig mcts;
+  FeTspConfig fe_tsp;
+  /// Hypotheses with a confidence below this are not used (and reported as rejected).
+  double min_confidence = 0.0;
+  /// Throws efs::ConfigError naming the key (also for modes this core does not implement).
+  void validate() const;
+};
+
+struct PlanningInput {
+  RobotPose robot;
+  std::vector<PlanViewpoint> viewpoints;
+  PathLengthFn path_length_m;
+  std::vector<Hypothesis> hypotheses;
+  /// May be null (no prior: prior-free).
+  const GuidepointPrior* prior = nullptr;
+  ObservationQuery observation;
+  std::optional<Eigen::AlignedBox2d> bounds_world_m;
+};
+
+enum class PlanningStatus {
+  kOk,
+  kNoViewpoints,           ///< nothing left to explore: the caller terminates
+  kNoReachableViewpoint,   ///< viewpoints exist but the robot reaches none of them
+};
+
+struct RejectedHypothesis {
+  int id = 0;
+  std::string reason;
+};
+
+struct PlanningResult {
+  PlanningStatus status = PlanningStatus::kOk;
+  /// kProposed when the prior guided this cycle, kPriorFree when it fell back.
+  BaselineMode mode_used = BaselineMode::kPriorFree;
+  LocalTour tour;
+  /// Hypotheses used (indices into the input) with their attachments and sequences.
+  std::vector<int> used_hypotheses;
+  std::vector<HypothesisAttachment> attachments;
+  std::vector<HypothesisSequence> sequences;
+  std::vector<ViewpointGroup> groups;
+  PriorSelection selection;
+  std::vector<RejectedHypothesis> rejected;
+  /// The selected hypothesis' id (-1 when none guided).
+  int active_hypothesis_id = -1;
+};
+
+class HierarchicalPlanner {
+ public:
+  explicit HierarchicalPlanner(HierarchicalPlannerConfig config = {});
+  /// Throws std::invalid_argument on malformed input (prior sizes, missing oracle).
+  PlanningResult plan(const PlanningInput& input) const;
+  const HierarchicalPlannerConfig& config() const { return config_; }
+
+ private:
+  HierarchicalPlannerConfig config_;
+};
+
+}  // namespace efs::planner

@@ -1,0 +1,123 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "prior_guided_planner/fe_tsp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "efs_common/angles.h"
+#include "efs_common/config_check.h"
+
+namespace efs::planner {
+
+void FeTspConfig::validate() const {
+  requirePositive("fe_tsp.v_max_mps", v_max_mps);
+  requirePositive("fe_tsp.omega_max_radps", omega_max_radps);
+  // |beta_e| <= 1 keeps J(X_r, V) >= 0: max(a, b) + beta_e * b >= (1 + beta_e) * b.
+  requireInRange("fe_tsp.beta_e", beta_e, -1.0, 1.0);
+  atsp.validate();
+}
+
+CostMatrix buildFeTspMatrix(const RobotPose& robot, const std::vector<PlanViewpoint>& viewpoints,
+                            const std::vector<int>& selected, const std::vector<bool>& isolated,
+                            const std::optional<Eigen::Vector2d>& terminal_world_m,
+                            const PathLengthFn& path_length_m, const FeTspConfig& config) {
+  config.validate();
+  if (!path_length_m) throw std::invalid_argument("buildFeTspMatrix: no path length oracle");
+  if (isolated.size() != selected.size())
+    throw std::invalid_argument("buildFeTspMatrix: isolated flags do not match the selection");
+  const int n = static_cast<int>(selected.size());
+  const bool term = terminal_world_m.has_value();
+  const int size = term ? n + 3 : n + 1;
+  const int t = n + 1, dv = n + 2;
+  CostMatrix c(size, kUnreachable);
+  for (int i = 0; i < size; ++i) c(i, i) = 0.0;
+  for (int a = 0; a < n; ++a) {
+    const PlanViewpoint& va = viewpoints.at(selected[a]);
+    const double l = path_length_m(kRobotNode, selected[a]);
+    const double dyaw_s = std::abs(angleDiff(va.yaw_rad, robot.yaw_rad)) / config.omega_max_radps;
+    const double urg = isolated[a] ? config.beta_e * dyaw_s : 0.0;
+    c(0, a + 1) = l < kUnreachable ? std::max(l / config.v_max_mps, dyaw_s) + urg : kUnreachable;
+    c(a + 1, 0) = 0.0;
+    for (int b = 0; b < n; ++b) {
+      if (a == b) continue;
+      const double lab = path_length_m(selected[a], selected[b]);
+      c(a + 1, b + 1) = lab < kUnreachable ? lab / config.v_max_mps : kUnreachable;
+    }
+    if (term) c(a + 1, t) = (va.position_world_m.head<2>() - *terminal_world_m).norm() / config.v_max_mps;
+  }
+  if (term) {
+    c(t, dv) = 0.0;
+    c(dv, 0) = 0.0;
+    if (n == 0) c(0, t) = 0.0;  // nothing to visit: go straight towards the terminal
+    // Every other edge at G_t / G_v stays kUnreachable (the paper's "infinity").
+  }
+  for (int i = 0; i < size; ++i)
+    for (int j = 0; j < size; ++j)
+      if (std::isnan(c(i, j)))
+        throw std::invalid_argument("buildFeTspMatrix: path length oracle returned NaN");
+  return c;
+}
+
+namespace {
+
+LocalTour solveOver(const RobotPose& robot, const std::vector<PlanViewpoint>& viewpoints,
+                    std::vector<int> wanted, const std::vector<bool>& wanted_iso,
+                    const std::optional<Eigen::Vector2d>& terminal, const PathLengthFn& L,
+                    const FeTspConfig& config) {
+  config.validate();
+  if (!L) throw std::invalid_argument("FE-TSP: no path length oracle");
+  LocalTour out;
+  std::vector<int> sel;
+  std::vector<bool> iso;
+  for (size_t k = 0; k < wanted.size(); ++k) {
+    if (wanted[k] < 0 || wanted[k] >= static_cast<int>(viewpoints.size()))
+      throw std::invalid_argument("FE-TSP: viewpoint index " + std::to_string(wanted[k]) +
+                                  " out of range");
+    if (L(kRobotNode, wanted[k]) < kUnreachable) {
+      sel.push_back(wanted[k]);
+      iso.push_back(wanted_iso[k]);
+    } else {
+      out.unreachable_viewpoints.push_back(wanted[k]);
+    }
+  }
+  out.has_terminal = terminal.has_value();
+  if (terminal) out.terminal_world_m = *terminal;
+  const CostMatrix c = buildFeTspMatrix(robot, viewpoints, sel, iso, terminal, L, config);
+  const AtspResult r = AtspSolver(config.atsp).solveTour(c);
+  const int n = static_cast<int>(sel.size());
+  for (size_t k = 1; k < r.order.size(); ++k)
+    if (r.order[k] >= 1 && r.order[k] <= n) out.viewpoints.push_back(sel[r.order[k] - 1]);
+  out.feasible = r.feasible;
+  if (terminal) {
+    // Valid FE-TSP tour: X_r, all viewpoints, G_t, G_v.
+    out.feasible = out.feasible && r.order.size() == static_cast<size_t>(n + 3) &&
+                   r.order[n + 1] == n + 1 && r.order[n + 2] == n + 2;
+  }
+  out.cost_s = r.cost;
+  return out;
+}
+
+}  // namespace
+
+LocalTour solveFeTsp(const RobotPose& robot, const std::vector<PlanViewpoint>& viewpoints,
+                     const std::vector<int>& isolated, const std::vector<int>& target,
+                     const std::optional<Eigen::Vector2d>& terminal_world_m,
+                     const PathLengthFn& path_length_m, const FeTspConfig& config) {
+  std::vector<int> wanted = isolated;
+  std::vector<bool> iso(isolated.size(), true);
+  for (int v : target)
+    if (std::find(isolated.begin(), isolated.end(), v) == isolated.end())
+      wanted.push_back(v), iso.push_back(false);
+  return solveOver(robot, viewpoints, wanted, iso, terminal_world_m, path_length_m, config);
+}
+
+LocalTour solvePriorFreeTour(const RobotPose& robot, const std::vector<PlanViewpoint>& viewpoints,
+                             const PathLengthFn& path_length_m, const FeTspConfig& config) {
+  std::vector<int> all(viewpoints.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  return solveOver(robot, viewpoints, all, std::vector<bool>(all.size(), false), std::nullopt,
+                   path_length_m, config);
+}
+
+}  // namespace efs::planner

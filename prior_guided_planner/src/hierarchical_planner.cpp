@@ -1,0 +1,110 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "prior_guided_planner/hierarchical_planner.h"
+
+#include <stdexcept>
+
+#include "efs_common/config_check.h"
+
+namespace efs::planner {
+
+void HierarchicalPlannerConfig::validate() const {
+  requireThat(mode == BaselineMode::kProposed || mode == BaselineMode::kPriorFree ||
+                  mode == BaselineMode::kNearestFrontier,
+              "mode", "'" + toString(mode) + "' is not implemented by the hierarchical planner core");
+  attachment.validate();
+  sequencing.validate();
+  mcts.validate();
+  fe_tsp.validate();
+  requireInRange("min_confidence", min_confidence, 0.0, 1e9);
+}
+
+HierarchicalPlanner::HierarchicalPlanner(HierarchicalPlannerConfig config) : config_(config) {
+  config_.validate();
+}
+
+PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) const {
+  if (!in.path_length_m) throw std::invalid_argument("HierarchicalPlanner: no path length oracle");
+  PlanningResult res;
+  const int nv = static_cast<int>(in.viewpoints.size());
+  if (nv == 0) {
+    res.status = PlanningStatus::kNoViewpoints;
+    return res;
+  }
+  std::vector<double> robot_len(nv);
+  bool any = false;
+  for (int i = 0; i < nv; ++i) {
+    robot_len[i] = in.path_length_m(kRobotNode, i);
+    if (std::isnan(robot_len[i]))
+      throw std::invalid_argument("HierarchicalPlanner: path length to viewpoint " +
+                                  std::to_string(i) + " is NaN");
+    any = any || robot_len[i] < kUnreachable;
+  }
+  if (!any) {
+    res.status = PlanningStatus::kNoReachableViewpoint;
+    for (int i = 0; i < nv; ++i) res.tour.unreachable_viewpoints.push_back(i);
+    res.tour.feasible = false;
+    return res;
+  }
+
+  if (config_.mode == BaselineMode::kNearestFrontier) {
+    int best = -1;
+    for (int i = 0; i < nv; ++i)
+      if (robot_len[i] < kUnreachable && (best < 0 || robot_len[i] < robot_len[best])) best = i;
+    res.mode_used = BaselineMode::kNearestFrontier;
+    res.tour.viewpoints = {best};
+    res.tour.cost_s = robot_len[best] / config_.fe_tsp.v_max_mps;
+    for (int i = 0; i < nv; ++i)
+      if (!(robot_len[i] < kUnreachable)) res.tour.unreachable_viewpoints.push_back(i);
+    return res;
+  }
+
+  if (config_.mode == BaselineMode::kProposed && in.prior && in.prior->size() > 0) {
+    in.prior->validate();
+    for (size_t j = 0; j < in.hypotheses.size(); ++j) {
+      const Hypothesis& h = in.hypotheses[j];
+      if (auto why = hypothesisDefect(h)) {
+        res.rejected.push_back({h.id, *why});
+      } else if (h.confidence < config_.min_confidence) {
+        res.rejected.push_back({h.id, "confidence below min_confidence"});
+      } else {
+        res.used_hypotheses.push_back(static_cast<int>(j));
+      }
+    }
+    for (size_t k = 0; k < res.used_hypotheses.size(); ++k) {
+      const Hypothesis& h = in.hypotheses[res.used_hypotheses[k]];
+      res.attachments.push_back(attachViewpoints(h, *in.prior, in.viewpoints, in.observation,
+                                                 in.bounds_world_m, config_.attachment));
+      HypothesisSequence hs;
+      hs.confidence = h.confidence;
+      hs.problem = buildGuidepointProblem(res.attachments.back(), *in.prior,
+                                          h.T_world_sketch.scale, robot_len, config_.sequencing);
+      MctsConfig mc = config_.mcts;
+      mc.seed = config_.mcts.seed + 7919 * k;
+      hs.mcts = MctsSequencer(mc).solve(hs.problem.problem);
+      res.sequences.push_back(std::move(hs));
+    }
+    if (!res.used_hypotheses.empty()) {
+      res.groups = groupViewpoints(res.attachments, nv);
+      res.selection = selectPriorSequence(res.groups, res.sequences, robot_len);
+      if (res.selection.group >= 0 && res.selection.hypothesis >= 0) {
+        const int hk = res.selection.hypothesis;
+        std::optional<Eigen::Vector2d> terminal;
+        if (res.selection.guidepoint_sequence.size() >= 2)
+          terminal = res.attachments[hk].guidepoints_world_m[res.selection.guidepoint_sequence[1]];
+        res.tour = solveFeTsp(in.robot, in.viewpoints, res.selection.isolated_viewpoints,
+                              res.selection.target_viewpoints, terminal, in.path_length_m,
+                              config_.fe_tsp);
+        res.mode_used = BaselineMode::kProposed;
+        res.active_hypothesis_id = in.hypotheses[res.used_hypotheses[hk]].id;
+        if (!res.tour.viewpoints.empty()) return res;
+      }
+    }
+  }
+  // No prior, no usable hypothesis, no target group (or nothing reachable in it): prior-free.
+  res.mode_used = BaselineMode::kPriorFree;
+  res.active_hypothesis_id = -1;
+  res.tour = solvePriorFreeTour(in.robot, in.viewpoints, in.path_length_m, config_.fe_tsp);
+  return res;
+}
+
+}  // namespace efs::planner

@@ -1,0 +1,290 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "prior_guided_planner/mcts_sequencer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+#include <thread>
+
+#include "efs_common/config_check.h"
+
+namespace efs::planner {
+
+void MctsConfig::validate() const {
+  requireInRange("mcts.exploration_constant", exploration_constant, 0.0, 100.0);
+  requireInRange("mcts.iterations", iterations, 0, 1000000);
+  requireInRange("mcts.rollouts_per_iteration", rollouts_per_iteration, 1, 1024);
+  requireInRange("mcts.threads", threads, 1, 256);
+  rollout.validate();
+}
+
+namespace {
+
+void checkProblem(const MctsProblem& p) {
+  const int m = p.cost.size();
+  if (m < 1 || static_cast<int>(p.exploring.size()) != m)
+    throw std::invalid_argument("MctsProblem: cost is " + std::to_string(m) + " x " +
+                                std::to_string(m) + " but exploring has " +
+                                std::to_string(p.exploring.size()) + " entries (need >= 1, equal)");
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j)
+      if (std::isnan(p.cost(i, j)))
+        throw std::invalid_argument("MctsProblem: cost(" + std::to_string(i) + ", " +
+                                    std::to_string(j) + ") is NaN");
+}
+
+uint64_t mix(uint64_t a, uint64_t b) {
+  uint64_t z = a * 0x9E3779B97F4A7C15ull + b + 0x7F4A7C159E3779B9ull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+struct Node {
+  int parent = -1;
+  int gp = 0;  // problem node; 0 for the root
+  double prefix_len = 0.0;
+  double w = 0.0;
+  int visits = 0;
+  std::vector<int> children;
+  std::vector<int> untried;  // in expansion order
+};
+
+struct Rollout {
+  std::vector<int> sequence;  // full guidepoint sequence (without the robot)
+  double length = kUnreachable;
+};
+
+// The root rollout has no warm start: it gets a full stand-alone solve.
+AtspConfig rootConfig(const MctsConfig& c) {
+  AtspConfig a;
+  a.seed = c.seed;
+  a.exact_max_nodes = c.rollout.exact_max_nodes;
+  return a;
+}
+
+class Search {
+ public:
+  Search(const MctsProblem& p, const MctsConfig& c)
+      : p_(p), c_(c), m_(p.cost.size()), solver_(c.rollout), root_solver_(rootConfig(c)) {}
+
+  MctsResult run() {
+    MctsResult res;
+    res.best_length_by_first.assign(m_, kUnreachable);
+    res.best_sequence_by_first.assign(m_, {});
+    if (m_ == 1) {
+      res.length = 0.0;
+      res.feasible = true;
+      return res;
+    }
+    nodes_.push_back(Node{});
+    const Rollout root = rollout(0);
+    res.rollouts = 1;
+    norm_ = (root.length < kUnreachable && root.length > 0.0) ? root.length : 1.0;
+    record(root, res);
+    setUntried(0, root);
+    best_seq_.push_back(root.sequence);
+    nodes_[0].visits = 1;
+    nodes_[0].w = reward(root.length);
+    if (nodes_[0].untried.empty()) return finish(res);
+
+    for (int it = 0; it < std::max(1, c_.iterations); ++it) {
+      int cur = 0;
+      while (nodes_[cur].untried.empty() && !nodes_[cur].children.empty()) cur = selectChild(cur);
+      if (nodes_[cur].untried.empty()) {  // complete sequence: its value is known
+        backprop(cur, reward(nodes_[cur].prefix_len));
+        continue;
+      }
+      const size_t take = (it == 0 && cur == 0)
+                              ? nodes_[cur].untried.size()
+                              : std::min<size_t>(c_.rollouts_per_iteration, nodes_[cur].untried.size());
+      std::vector<int> fresh;
+      for (size_t k = 0; k < take; ++k) {
+        Node child;
+        child.parent = cur;
+        child.gp = nodes_[cur].untried[k];
+        child.prefix_len = nodes_[cur].prefix_len + edge(nodes_[cur].gp, child.gp);
+        nodes_.push_back(child);
+        nodes_[cur].children.push_back(static_cast<int>(nodes_.size()) - 1);
+        fresh.push_back(static_cast<int>(nodes_.size()) - 1);
+      }
+      nodes_[cur].untried.erase(nodes_[cur].untried.begin(), nodes_[cur].untried.begin() + take);
+      std::vector<Rollout> outs(fresh.size());
+      runParallel(fresh, outs);
+      res.rollouts += static_cast<int>(fresh.size());
+      for (size_t k = 0; k < fresh.size(); ++k) {
+        record(outs[k], res);
+        setUntried(fresh[k], outs[k]);
+        best_seq_.push_back(outs[k].sequence);
+        backprop(fresh[k], reward(outs[k].length));
+      }
+    }
+    return finish(res);
+  }
+
+ private:
+  double edge(int from, int to) const {
+    if (from == 0 && !p_.exploring[to]) return kUnreachable;
+    return p_.cost(from, to);
+  }
+  double reward(double len) const { return len < kUnreachable ? -len / norm_ : -100.0; }
+
+  std::vector<int> prefix(int node) const {
+    std::vector<int> r;
+    for (int x = node; x > 0; x = nodes_[x].parent) r.push_back(nodes_[x].gp);
+    std::reverse(r.begin(), r.end());
+    return r;
+  }
+
+  // Completes the node's prefix with the ATSP solver. The parent's best completion minus this
+  // node is the warm start: it is usually near optimal already, so few kicks suffice.
+  Rollout rollout(int node, const std::vector<int>* parent_seq = nullptr) const {
+    const std::vector<int> pre = prefix(node);
+    std::vector<char> used(m_, 0);
+    used[0] = 1;
+    for (int g : pre) used[g] = 1;
+    std::vector<int> idx{nodes_[node].gp};
+    for (int g = 1; g < m_; ++g)
+      if (!used[g]) idx.push_back(g);
+    Rollout r;
+    r.sequence = pre;
+    const int k = static_cast<int>(idx.size());
+    if (k == 1) {
+      r.length = nodes_[node].prefix_len;
+      return r;
+    }
+    CostMatrix sub(k);
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; j < k; ++j) sub(i, j) = (j == 0 || i == j) ? 0.0 : edge(idx[i], idx[j]);
+    std::vector<int> warm;
+    if (parent_seq) {
+      std::vector<int> local(m_, -1);
+      for (int i = 0; i < k; ++i) local[idx[i]] = i;
+      warm.push_back(0);
+      for (int g : *parent_seq)
+        if (!used[g]) warm.push_back(local[g]);
+      if (static_cast<int>(warm.size()) != k) warm.clear();
+    }
+    const AtspSolver& solver = warm.empty() ? root_solver_ : solver_;
+    const AtspResult a = solver.solveOpenPath(sub, 0, AtspSolver::kFreeEnd, mix(c_.seed, node),
+                                               warm.empty() ? nullptr : &warm);
+    for (size_t q = 1; q < a.order.size(); ++q) r.sequence.push_back(idx[a.order[q]]);
+    r.length = nodes_[node].prefix_len + a.cost;
+    return r;
+  }
+
+  void runParallel(const std::vector<int>& fresh, std::vector<Rollout>& outs) const {
+    const int jobs = static_cast<int>(fresh.size());
+    const int t = std::min(c_.threads, jobs);
+    auto work = [&](int tid) {
+      for (int k = tid; k < jobs; k += t)
+        outs[k] = rollout(fresh[k], &best_seq_[nodes_[fresh[k]].parent]);
+    };
+    std::vector<std::thread> pool;
+    for (int tid = 1; tid < t; ++tid) pool.emplace_back(work, tid);
+    work(0);
+    for (auto& th : pool) th.join();
+  }
+
+  // Children in expansion order: the rollout's next guidepoint first, then cheapest edges.
+  void setUntried(int node, const Rollout& r) {
+    std::vector<char> used(m_, 0);
+    used[0] = 1;
+    for (int x = node; x > 0; x = nodes_[x].parent) used[nodes_[x].gp] = 1;
+    const int from = nodes_[node].gp;
+    std::vector<int> cand;
+    for (int g = 1; g < m_; ++g)
+      if (!used[g] && (from != 0 || p_.exploring[g])) cand.push_back(g);
+    std::stable_sort(cand.begin(), cand.end(),
+                     [&](int a, int b) { return edge(from, a) < edge(from, b); });
+    const size_t depth = prefix(node).size();
+    if (r.sequence.size() > depth) {
+      const auto it = std::find(cand.begin(), cand.end(), r.sequence[depth]);
+      if (it != cand.end()) std::rotate(cand.begin(), it, it + 1);
+    }
+    nodes_[node].untried = cand;
+  }
+
+  int selectChild(int node) const {
+    const Node& n = nodes_[node];
+    const double ln = std::log(std::max(1, n.visits));
+    int best = n.children.front();
+    double best_v = -std::numeric_limits<double>::infinity();
+    for (int ch : n.children) {
+      const Node& c = nodes_[ch];
+      const double v = c.w / c.visits + c_.exploration_constant * std::sqrt(ln / c.visits);
+      if (v > best_v) best_v = v, best = ch;
+    }
+    return best;
+  }
+
+  void backprop(int node, double rew) {
+    for (int x = node; x >= 0; x = nodes_[x].parent) {
+      nodes_[x].visits += 1;
+      nodes_[x].w += rew;
+      if (x == 0) break;
+    }
+  }
+
+  void record(const Rollout& r, MctsResult& res) const {
+    if (r.sequence.empty() || !(r.length < kUnreachable)) return;
+    const int first = r.sequence.front();
+    if (r.length < res.best_length_by_first[first]) {
+      res.best_length_by_first[first] = r.length;
+      res.best_sequence_by_first[first] = r.sequence;
+    }
+    if (r.length < res.length) res.length = r.length, res.sequence = r.sequence;
+  }
+
+  MctsResult finish(MctsResult& res) const {
+    res.feasible = !res.sequence.empty() && res.length < kUnreachable;
+    res.tree_nodes = static_cast<int>(nodes_.size());
+    return res;
+  }
+
+  const MctsProblem& p_;
+  const MctsConfig& c_;
+  int m_;
+  AtspSolver solver_, root_solver_;
+  std::vector<Node> nodes_;
+  std::vector<std::vector<int>> best_seq_;  // per tree node: its rollout's full sequence
+  double norm_ = 1.0;
+};
+
+}  // namespace
+
+MctsSequencer::MctsSequencer(MctsConfig config) : config_(config) { config_.validate(); }
+
+MctsResult MctsSequencer::solve(const MctsProblem& problem) const {
+  checkProblem(problem);
+  return Search(problem, config_).run();
+}
+
+MctsResult solveSequenceExhaustive(const MctsProblem& p) {
+  checkProblem(p);
+  const int m = p.cost.size();
+  if (m > 10) throw std::invalid_argument("solveSequenceExhaustive: more than 9 guidepoints");
+  MctsResult res;
+  res.best_length_by_first.assign(m, kUnreachable);
+  res.best_sequence_by_first.assign(m, {});
+  if (m == 1) {
+    res.length = 0.0;
+    res.feasible = true;
+    return res;
+  }
+  std::vector<int> s(m - 1);
+  std::iota(s.begin(), s.end(), 1);
+  do {
+    if (!p.exploring[s[0]]) continue;
+    double len = p.cost(0, s[0]);
+    for (size_t k = 0; k + 1 < s.size(); ++k) len += p.cost(s[k], s[k + 1]);
+    if (len < res.best_length_by_first[s[0]])
+      res.best_length_by_first[s[0]] = len, res.best_sequence_by_first[s[0]] = s;
+    if (len < res.length) res.length = len, res.sequence = s;
+  } while (std::next_permutation(s.begin(), s.end()));
+  res.feasible = res.length < kUnreachable;
+  return res;
+}
+
+}  // namespace efs::planner

@@ -1,0 +1,78 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "prior_guided_planner/viewpoint_attachment.h"
+
+#include <limits>
+#include <stdexcept>
+
+#include "efs_common/config_check.h"
+
+namespace efs::planner {
+
+void AttachmentConfig::validate() const {
+  requirePositive("attachment.rho_m", rho_m);
+  requirePositive("attachment.influence_radius_m", influence_radius_m);
+  requireInRange("attachment.outside_margin_m", outside_margin_m, 0.0, 1e9);
+}
+
+const char* toString(GuidepointState s) {
+  switch (s) {
+    case GuidepointState::kUnexplored: return "unexplored";
+    case GuidepointState::kExploring: return "exploring";
+    case GuidepointState::kExplored: return "explored";
+    case GuidepointState::kOutside: return "outside";
+  }
+  return "unknown";
+}
+
+HypothesisAttachment attachViewpoints(const Hypothesis& hypothesis, const GuidepointPrior& prior,
+                                      const std::vector<PlanViewpoint>& viewpoints,
+                                      const ObservationQuery& observation,
+                                      const std::optional<Eigen::AlignedBox2d>& bounds_world_m,
+                                      const AttachmentConfig& config) {
+  config.validate();
+  if (const auto why = hypothesisDefect(hypothesis))
+    throw std::invalid_argument("attachViewpoints: hypothesis " + std::to_string(hypothesis.id) +
+                                " unusable: " + *why);
+  const int ng = prior.size(), nv = static_cast<int>(viewpoints.size());
+  HypothesisAttachment out;
+  out.guidepoints_world_m.resize(ng);
+  out.states.assign(ng, GuidepointState::kUnexplored);
+  out.attached.assign(ng, {});
+  out.attached_to.assign(nv, -1);
+  std::vector<char> active(ng, 1);
+  for (int j = 0; j < ng; ++j) {
+    out.guidepoints_world_m[j] = hypothesis.T_world_sketch.apply(prior.positions_sketch_m[j]);
+    if (bounds_world_m && !bounds_world_m->isEmpty()) {
+      const double d = std::sqrt(bounds_world_m->squaredExteriorDistance(out.guidepoints_world_m[j]));
+      if (d > config.outside_margin_m) out.states[j] = GuidepointState::kOutside, active[j] = 0;
+    }
+  }
+  for (int i = 0; i < nv; ++i) {
+    const Eigen::Vector2d p = viewpoints[i].position_world_m.head<2>();
+    double d1 = std::numeric_limits<double>::infinity(), d2 = d1;
+    int j1 = -1;
+    for (int j = 0; j < ng; ++j) {
+      if (!active[j]) continue;
+      const double d = (out.guidepoints_world_m[j] - p).norm();
+      if (d < d1) d2 = d1, d1 = d, j1 = j;
+      else if (d < d2) d2 = d;
+    }
+    if (j1 >= 0 && d1 < std::min(config.rho_m, d2)) {
+      out.attached_to[i] = j1;
+      out.attached[j1].push_back(i);
+    }
+  }
+  for (int j = 0; j < ng; ++j) {
+    if (!active[j]) continue;
+    if (!out.attached[j].empty()) {
+      out.states[j] = GuidepointState::kExploring;
+    } else if (observation &&
+               observation(out.guidepoints_world_m[j], config.influence_radius_m) ==
+                   ObservationLevel::kWellObserved) {
+      out.states[j] = GuidepointState::kExplored;
+    }
+  }
+  return out;
+}
+
+}  // namespace efs::planner

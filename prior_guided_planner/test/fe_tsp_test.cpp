@@ -1,0 +1,185 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "efs_common/angles.h"
+#include "efs_common/config_check.h"
+#include "prior_guided_planner/fe_tsp.h"
+
+namespace efs::planner {
+namespace {
+
+std::vector<PlanViewpoint> randomViewpoints(int n, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-30.0, 30.0), yaw(-M_PI, M_PI);
+  std::vector<PlanViewpoint> v(n);
+  for (int i = 0; i < n; ++i) v[i] = PlanViewpoint{i, {u(rng), u(rng), 1.0}, yaw(rng)};
+  return v;
+}
+
+// Straight-line path lengths (the oracle would search the map).
+PathLengthFn euclidean(const RobotPose& r, const std::vector<PlanViewpoint>& v) {
+  return [r, v](int a, int b) {
+    const Eigen::Vector3d pa = a == kRobotNode ? r.position_world_m : v[a].position_world_m;
+    const Eigen::Vector3d pb = b == kRobotNode ? r.position_world_m : v[b].position_world_m;
+    return (pa - pb).norm();
+  };
+}
+
+TEST(FeTsp, CostMatrixFollowsThePaper) {
+  RobotPose robot;
+  robot.yaw_rad = 0.5;
+  const auto v = randomViewpoints(3, 1);
+  const auto L = euclidean(robot, v);
+  const Eigen::Vector2d term(40.0, 0.0);
+  FeTspConfig cfg;
+  const CostMatrix c = buildFeTspMatrix(robot, v, {0, 1, 2}, {true, false, false}, term, L, cfg);
+  ASSERT_EQ(c.size(), 6);
+  const int t = 4, dv = 5;
+  const double dyaw0 = std::abs(angleDiff(v[0].yaw_rad, 0.5)) / 4.0;
+  EXPECT_NEAR(c(0, 1), std::max(L(kRobotNode, 0) / 4.0, dyaw0) - 0.2 * dyaw0, 1e-12);  // urgent
+  const double dyaw1 = std::abs(angleDiff(v[1].yaw_rad, 0.5)) / 4.0;
+  EXPECT_NEAR(c(0, 2), std::max(L(kRobotNode, 1) / 4.0, dyaw1), 1e-12);
+  EXPECT_NEAR(c(1, 2), L(0, 1) / 4.0, 1e-12);
+  EXPECT_NEAR(c(2, t), (v[1].position_world_m.head<2>() - term).norm() / 4.0, 1e-12);
+  EXPECT_EQ(c(2, 0), 0.0);
+  EXPECT_EQ(c(t, dv), 0.0);
+  EXPECT_EQ(c(dv, 0), 0.0);
+  for (int j = 1; j <= 3; ++j) {
+    EXPECT_EQ(c(t, j), kUnreachable);
+    EXPECT_EQ(c(dv, j), kUnreachable);
+    EXPECT_EQ(c(j, dv), kUnreachable);
+  }
+  EXPECT_EQ(c(0, dv), kUnreachable);
+  EXPECT_EQ(c(dv, t), kUnreachable);
+  EXPECT_EQ(c(0, t), kUnreachable);
+}
+
+double bestOpenCost(const CostMatrix& c, int n) {
+  std::vector<int> p(n);
+  for (int i = 0; i < n; ++i) p[i] = i + 1;
+  double best = kUnreachable;
+  do {
+    double s = c(0, p[0]);
+    for (int k = 0; k + 1 < n; ++k) s += c(p[k], p[k + 1]);
+    best = std::min(best, s + c(p.back(), n + 1));
+  } while (std::next_permutation(p.begin(), p.end()));
+  return best;
+}
+
+TEST(FeTsp, ToursStartAtTheRobotVisitEveryViewpointOnceAndEndAtTheTerminal) {
+  for (int n : {1, 4, 7, 30, 80}) {
+    RobotPose robot;
+    const auto v = randomViewpoints(n, 10 + n);
+    const auto L = euclidean(robot, v);
+    std::vector<int> iso, target;
+    for (int i = 0; i < n; ++i) (i % 3 == 0 ? iso : target).push_back(i);
+    const Eigen::Vector2d term(60.0, 60.0);
+    const LocalTour t = solveFeTsp(robot, v, iso, target, term, L, FeTspConfig{});
+    EXPECT_TRUE(t.feasible);
+    EXPECT_TRUE(t.has_terminal);
+    std::vector<int> sorted = t.viewpoints;
+    std::sort(sorted.begin(), sorted.end());
+    std::vector<int> all(n);
+    for (int i = 0; i < n; ++i) all[i] = i;
+    EXPECT_EQ(sorted, all) << "n=" << n;
+    // The cost is that of robot -> tour -> terminal on the FE-TSP matrix (cycle closure free).
+    std::vector<int> sel = iso;
+    sel.insert(sel.end(), target.begin(), target.end());
+    std::vector<bool> isf(sel.size());
+    for (size_t k = 0; k < sel.size(); ++k) isf[k] = k < iso.size();
+    const CostMatrix c = buildFeTspMatrix(robot, v, sel, isf, term, L, FeTspConfig{});
+    std::vector<int> node_of(n);
+    for (size_t k = 0; k < sel.size(); ++k) node_of[sel[k]] = static_cast<int>(k) + 1;
+    double cost = c(0, node_of[t.viewpoints.front()]);
+    for (size_t k = 0; k + 1 < t.viewpoints.size(); ++k)
+      cost += c(node_of[t.viewpoints[k]], node_of[t.viewpoints[k + 1]]);
+    cost += c(node_of[t.viewpoints.back()], n + 1);
+    EXPECT_NEAR(cost, t.cost_s, 1e-9);
+    if (n <= 7) {
+      EXPECT_NEAR(t.cost_s, bestOpenCost(c, n), 1e-9) << "n=" << n;
+    }
+  }
+}
+
+TEST(FeTsp, TerminalPullsTheTourEnd) {
+  // Viewpoints on a line; the terminal far to the +x side: the tour must end at the +x end.
+  RobotPose robot;
+  std::vector<PlanViewpoint> v;
+  for (int i = 0; i < 6; ++i) v.push_back(PlanViewpoint{i, {-10.0 + 4.0 * i, 0.0, 1.0}, 0.0});
+  const LocalTour t =
+      solveFeTsp(robot, v, {}, {0, 1, 2, 3, 4, 5}, Eigen::Vector2d(100, 0), euclidean(robot, v), {});
+  EXPECT_EQ(t.viewpoints.back(), 5);
+  const LocalTour back =
+      solveFeTsp(robot, v, {}, {0, 1, 2, 3, 4, 5}, Eigen::Vector2d(-100, 0), euclidean(robot, v), {});
+  EXPECT_EQ(back.viewpoints.back(), 0);
+}
+
+TEST(FeTsp, UrgencyMakesIsolatedViewpointsComeFirst) {
+  // Two viewpoints at the same distance; the robot must turn pi/2 for both. The isolated one is
+  // cheaper to start with through the (negative) urgency term.
+  RobotPose robot;
+  std::vector<PlanViewpoint> v = {PlanViewpoint{0, {0, 8, 1}, M_PI / 2},
+                                  PlanViewpoint{1, {0, -8, 1}, M_PI / 2}};
+  const auto L = euclidean(robot, v);
+  EXPECT_EQ(solveFeTsp(robot, v, {1}, {0}, std::nullopt, L, {}).viewpoints.front(), 1);
+  EXPECT_EQ(solveFeTsp(robot, v, {0}, {1}, std::nullopt, L, {}).viewpoints.front(), 0);
+}
+
+TEST(FeTsp, UnreachableViewpointsAreLeftOutAndReported) {
+  RobotPose robot;
+  const auto v = randomViewpoints(6, 3);
+  const auto e = euclidean(robot, v);
+  const PathLengthFn L = [e](int a, int b) {
+    return (a == 2 || b == 2) ? kUnreachable : e(a, b);
+  };
+  const LocalTour t = solveFeTsp(robot, v, {0, 1}, {2, 3, 4, 5}, Eigen::Vector2d(5, 5), L, {});
+  EXPECT_EQ(t.unreachable_viewpoints, std::vector<int>{2});
+  EXPECT_EQ(t.viewpoints.size(), 5u);
+  EXPECT_TRUE(t.feasible);
+  const LocalTour pf = solvePriorFreeTour(robot, v, L, {});
+  EXPECT_EQ(pf.unreachable_viewpoints, std::vector<int>{2});
+  EXPECT_EQ(pf.viewpoints.size(), 5u);
+  EXPECT_FALSE(pf.has_terminal);
+}
+
+TEST(FeTsp, PriorFreeVisitsAllAndIsOptimalOnSmallScenes) {
+  RobotPose robot;
+  const auto v = randomViewpoints(7, 5);
+  const auto L = euclidean(robot, v);
+  const LocalTour t = solvePriorFreeTour(robot, v, L, {});
+  ASSERT_EQ(t.viewpoints.size(), 7u);
+  std::vector<int> p(7);
+  for (int i = 0; i < 7; ++i) p[i] = i;
+  const CostMatrix c = buildFeTspMatrix(robot, v, p, std::vector<bool>(7, false), std::nullopt, L, {});
+  double best = kUnreachable;
+  do {
+    double s = c(0, p[0] + 1);
+    for (int k = 0; k + 1 < 7; ++k) s += c(p[k] + 1, p[k + 1] + 1);
+    best = std::min(best, s);
+  } while (std::next_permutation(p.begin(), p.end()));
+  EXPECT_NEAR(t.cost_s, best, 1e-9);
+  EXPECT_TRUE(solvePriorFreeTour(robot, {}, L, {}).viewpoints.empty());
+}
+
+TEST(FeTsp, ConfigValidationNamesTheKey) {
+  FeTspConfig cfg;
+  cfg.v_max_mps = 0.0;
+  try {
+    cfg.validate();
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("fe_tsp.v_max_mps"), std::string::npos);
+  }
+  cfg = FeTspConfig();
+  cfg.beta_e = std::nan("");
+  EXPECT_THROW(cfg.validate(), ConfigError);
+  cfg = FeTspConfig();
+  EXPECT_DOUBLE_EQ(cfg.beta_e, -0.2);
+  EXPECT_DOUBLE_EQ(cfg.omega_max_radps, 4.0);
+}
+
+}  // namespace
+}  // namespace efs::planner

@@ -1,0 +1,177 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "efs_common/config_check.h"
+#include "prior_guided_planner/hierarchical_planner.h"
+
+namespace efs::planner {
+namespace {
+
+// A straight corridor sketch: guidepoints every 20 sketch-m along x, PRM = |dx|.
+GuidepointPrior corridor(int n) {
+  GuidepointPrior g;
+  for (int i = 0; i < n; ++i) {
+    g.ids.push_back(100 + i);
+    g.positions_sketch_m.emplace_back(20.0 * i, 0.0);
+  }
+  g.prm_distance_m = CostMatrix(n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) g.prm_distance_m(i, j) = 20.0 * std::abs(i - j);
+  return g;
+}
+
+struct Scene {
+  RobotPose robot;
+  std::vector<PlanViewpoint> vps;
+  PlanningInput input() const {
+    PlanningInput in;
+    in.robot = robot;
+    in.viewpoints = vps;
+    const auto v = vps;
+    const auto r = robot;
+    in.path_length_m = [v, r](int a, int b) {
+      const Eigen::Vector3d pa = a == kRobotNode ? r.position_world_m : v[a].position_world_m;
+      const Eigen::Vector3d pb = b == kRobotNode ? r.position_world_m : v[b].position_world_m;
+      return (pa - pb).norm();
+    };
+    return in;
+  }
+};
+
+// Robot at x = 20 in a corridor along x (world = sketch, scale 1). Viewpoints near guidepoints 0
+// (x = 0) and 2 (x = 40), and one off to the side, attached to nothing.
+Scene scene() {
+  Scene s;
+  s.robot.position_world_m = {20.0, 0.0, 1.0};
+  s.vps = {PlanViewpoint{0, {2.0, 1.0, 1.0}, 0.0}, PlanViewpoint{1, {-1.0, -2.0, 1.0}, 0.0},
+           PlanViewpoint{2, {41.0, 1.0, 1.0}, 0.0}, PlanViewpoint{3, {20.0, 60.0, 1.0}, 0.0}};
+  return s;
+}
+
+TEST(HierarchicalPlanner, OneHypothesisGuidesTowardsTheCheaperEnd) {
+  const GuidepointPrior prior = corridor(6);  // x = 0 .. 100: more corridor on the +x side
+  PlanningInput in = scene().input();
+  in.prior = &prior;
+  in.hypotheses = {Hypothesis{7, Sim2(), 0.8}};
+  const PlanningResult r = HierarchicalPlanner().plan(in);
+  ASSERT_EQ(r.status, PlanningStatus::kOk);
+  EXPECT_EQ(r.mode_used, BaselineMode::kProposed);
+  EXPECT_EQ(r.active_hypothesis_id, 7);
+  EXPECT_TRUE(r.selection.risk.empty());
+  // Best sequence: go to x = 0 first (G0), then sweep +x: G0, G1, ... -> terminal G1 at x = 20.
+  ASSERT_GE(r.selection.guidepoint_sequence.size(), 2u);
+  EXPECT_EQ(r.selection.guidepoint_sequence[0], 0);
+  EXPECT_EQ(r.selection.guidepoint_sequence[1], 1);
+  EXPECT_TRUE(r.tour.has_terminal);
+  EXPECT_NEAR(r.tour.terminal_world_m.x(), 20.0, 1e-9);
+  // Target group = viewpoints of G0, plus the isolated one; the G2 viewpoint waits.
+  std::vector<int> visited = r.tour.viewpoints;
+  std::sort(visited.begin(), visited.end());
+  EXPECT_EQ(visited, (std::vector<int>{0, 1, 3}));
+  EXPECT_EQ(r.attachments[0].states[2], GuidepointState::kExploring);
+  EXPECT_EQ(r.attachments[0].states[5], GuidepointState::kUnexplored);
+}
+
+TEST(HierarchicalPlanner, BadHypothesesAreRejectedWithReasonAndPriorFreeTakesOver) {
+  const GuidepointPrior prior = corridor(4);
+  PlanningInput in = scene().input();
+  in.prior = &prior;
+  Hypothesis nan_scale{1, Sim2(0.0, std::nan(""), {0, 0}), 0.9};
+  Hypothesis zero_scale{2, Sim2(0.0, 0.0, {0, 0}), 0.9};
+  Hypothesis negative_scale{3, Sim2(0.0, -1.0, {0, 0}), 0.9};
+  in.hypotheses = {nan_scale, zero_scale, negative_scale};
+  const PlanningResult r = HierarchicalPlanner().plan(in);
+  ASSERT_EQ(r.rejected.size(), 3u);
+  EXPECT_EQ(r.rejected[0].id, 1);
+  EXPECT_NE(r.rejected[0].reason.find("not finite"), std::string::npos);
+  EXPECT_NE(r.rejected[1].reason.find("not positive"), std::string::npos);
+  EXPECT_NE(r.rejected[2].reason.find("not positive"), std::string::npos);
+  EXPECT_EQ(r.mode_used, BaselineMode::kPriorFree);
+  EXPECT_EQ(r.tour.viewpoints.size(), 4u);
+  EXPECT_EQ(r.active_hypothesis_id, -1);
+}
+
+TEST(HierarchicalPlanner, TwoHypothesesUseTheRiskStep) {
+  const GuidepointPrior prior = corridor(6);
+  PlanningInput in = scene().input();
+  in.prior = &prior;
+  // The second hypothesis is mirrored along x (yaw pi, shifted): its corridor runs to -x.
+  in.hypotheses = {Hypothesis{1, Sim2(), 0.7}, Hypothesis{2, Sim2(M_PI, 1.0, {40.0, 0.0}), 0.3}};
+  const PlanningResult r = HierarchicalPlanner().plan(in);
+  EXPECT_EQ(r.mode_used, BaselineMode::kProposed);
+  ASSERT_EQ(r.sequences.size(), 2u);
+  EXPECT_EQ(r.selection.risk.size(), r.groups.size());
+  ASSERT_GE(r.selection.group, 0);
+  // The selected group has the minimum risk.
+  for (double risk : r.selection.risk) EXPECT_GE(risk, r.selection.risk[r.selection.group] - 1e-9);
+  EXPECT_FALSE(r.tour.viewpoints.empty());
+}
+
+TEST(HierarchicalPlanner, GuidepointsFarOutsideTheMapAreIgnored) {
+  const GuidepointPrior prior = corridor(4);
+  PlanningInput in = scene().input();
+  in.prior = &prior;
+  in.bounds_world_m = Eigen::AlignedBox2d(Eigen::Vector2d(-10, -10), Eigen::Vector2d(70, 70));
+  // Shifted 10 km away: every guidepoint is outside; no target group -> prior-free.
+  in.hypotheses = {Hypothesis{1, Sim2(0.0, 1.0, {10000.0, 0.0}), 1.0}};
+  const PlanningResult r = HierarchicalPlanner().plan(in);
+  for (auto s : r.attachments[0].states) EXPECT_EQ(s, GuidepointState::kOutside);
+  EXPECT_EQ(r.mode_used, BaselineMode::kPriorFree);
+  EXPECT_EQ(r.tour.viewpoints.size(), 4u);
+}
+
+TEST(HierarchicalPlanner, NoViewpointsAndUnreachableViewpoints) {
+  const GuidepointPrior prior = corridor(4);
+  PlanningInput in = scene().input();
+  in.prior = &prior;
+  in.viewpoints.clear();
+  EXPECT_EQ(HierarchicalPlanner().plan(in).status, PlanningStatus::kNoViewpoints);
+  in = scene().input();
+  in.path_length_m = [](int, int) { return kUnreachable; };
+  const PlanningResult r = HierarchicalPlanner().plan(in);
+  EXPECT_EQ(r.status, PlanningStatus::kNoReachableViewpoint);
+  EXPECT_EQ(r.tour.unreachable_viewpoints.size(), 4u);
+  EXPECT_TRUE(r.tour.viewpoints.empty());
+  in = scene().input();
+  in.path_length_m = nullptr;
+  EXPECT_THROW(HierarchicalPlanner().plan(in), std::invalid_argument);
+}
+
+TEST(HierarchicalPlanner, NoPriorMeansPriorFreeAndModesAreSelectable) {
+  PlanningInput in = scene().input();
+  PlanningResult r = HierarchicalPlanner().plan(in);
+  EXPECT_EQ(r.mode_used, BaselineMode::kPriorFree);
+  EXPECT_EQ(r.tour.viewpoints.size(), 4u);
+  HierarchicalPlannerConfig cfg;
+  cfg.mode = BaselineMode::kNearestFrontier;
+  r = HierarchicalPlanner(cfg).plan(in);
+  EXPECT_EQ(r.tour.viewpoints, std::vector<int>{0});  // 18 m away, the nearest
+  EXPECT_EQ(parseBaselineMode("prior_free"), BaselineMode::kPriorFree);
+  EXPECT_EQ(toString(BaselineMode::kGreedyPrior), "greedy_prior");
+  try {
+    parseBaselineMode("epic", "planner.mode");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("planner.mode"), std::string::npos);
+  }
+  cfg.mode = BaselineMode::kGreedyPrior;  // needs the information-gain predictor: not here
+  EXPECT_THROW(HierarchicalPlanner{cfg}, ConfigError);
+  cfg = HierarchicalPlannerConfig();
+  cfg.attachment.rho_m = -1.0;
+  try {
+    HierarchicalPlanner p(cfg);
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("attachment.rho_m"), std::string::npos);
+  }
+  // Paper defaults.
+  cfg = HierarchicalPlannerConfig();
+  EXPECT_DOUBLE_EQ(cfg.mcts.exploration_constant, 1.414);
+  EXPECT_DOUBLE_EQ(cfg.attachment.rho_m, 20.0);
+  EXPECT_DOUBLE_EQ(cfg.fe_tsp.v_max_mps, 4.0);
+}
+
+}  // namespace
+}  // namespace efs::planner

@@ -1,0 +1,119 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "efs_common/config_check.h"
+#include "prior_guided_planner/mcts_sequencer.h"
+
+namespace efs::planner {
+namespace {
+
+MctsProblem randomProblem(int n, int exploring, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(1.0, 100.0);
+  MctsProblem p;
+  p.cost = CostMatrix(n + 1);
+  p.exploring.assign(n + 1, false);
+  for (int k = 1; k <= exploring; ++k) p.exploring[1 + (k * 7 + static_cast<int>(seed)) % n] = true;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 1; j <= n; ++j)
+      if (i != j) p.cost(i, j) = u(rng);
+  return p;
+}
+
+double sequenceLength(const MctsProblem& p, const std::vector<int>& s) {
+  double len = p.cost(0, s.front());
+  for (size_t k = 0; k + 1 < s.size(); ++k) len += p.cost(s[k], s[k + 1]);
+  return len;
+}
+
+TEST(MctsSequencer, FindsTheExhaustiveOptimumOnSmallInstances) {
+  const MctsSequencer mcts;
+  for (int n = 2; n <= 8; ++n)
+    for (uint64_t s = 0; s < 4; ++s) {
+      const MctsProblem p = randomProblem(n, 1 + static_cast<int>(s % 3), 13 * n + s);
+      const MctsResult r = mcts.solve(p), ex = solveSequenceExhaustive(p);
+      ASSERT_TRUE(r.feasible);
+      EXPECT_NEAR(r.length, ex.length, 1e-9) << "n=" << n << " seed=" << s;
+      // A valid sequence: every guidepoint once, the first one exploring.
+      std::vector<int> sorted = r.sequence;
+      std::sort(sorted.begin(), sorted.end());
+      for (int k = 0; k < n; ++k) EXPECT_EQ(sorted[k], k + 1);
+      EXPECT_TRUE(p.exploring[r.sequence.front()]);
+      EXPECT_NEAR(sequenceLength(p, r.sequence), r.length, 1e-9);
+      // The per-first-guidepoint lengths kept for the risk step are exact here (rollouts on
+      // <= 13 nodes are solved by dynamic programming).
+      for (int g = 1; g <= n; ++g) {
+        if (!p.exploring[g]) {
+          EXPECT_EQ(r.best_length_by_first[g], kUnreachable);
+          continue;
+        }
+        EXPECT_NEAR(r.best_length_by_first[g], ex.best_length_by_first[g], 1e-9);
+        EXPECT_EQ(r.best_sequence_by_first[g].front(), g);
+      }
+    }
+}
+
+TEST(MctsSequencer, ResultDoesNotDependOnThreadCount) {
+  const MctsProblem p = randomProblem(40, 4, 99);
+  MctsConfig c;
+  c.iterations = 8;
+  c.threads = 1;
+  const MctsResult a = MctsSequencer(c).solve(p);
+  c.threads = 3;
+  const MctsResult b = MctsSequencer(c).solve(p);
+  EXPECT_EQ(a.sequence, b.sequence);
+  EXPECT_EQ(a.length, b.length);
+  EXPECT_EQ(a.rollouts, b.rollouts);
+  // Iteration 1 expands the whole root (4 exploring), then up to 4 per iteration.
+  EXPECT_EQ(a.rollouts, 1 + 4 + 7 * 4);
+}
+
+TEST(MctsSequencer, MoreIterationsNeverWorse) {
+  const MctsProblem p = randomProblem(30, 3, 5);
+  double prev = kUnreachable;
+  for (int it : {1, 5, 20, 60}) {
+    MctsConfig c;
+    c.iterations = it;
+    const double len = MctsSequencer(c).solve(p).length;
+    EXPECT_LE(len, prev + 1e-9);
+    prev = len;
+  }
+}
+
+TEST(MctsSequencer, EdgeCasesAndBadInput) {
+  // No guidepoint at all.
+  MctsProblem empty;
+  empty.cost = CostMatrix(1);
+  empty.exploring = {false};
+  MctsResult r = MctsSequencer().solve(empty);
+  EXPECT_TRUE(r.sequence.empty());
+  EXPECT_EQ(r.length, 0.0);
+  // No exploring guidepoint: the root cannot expand, nothing feasible.
+  MctsProblem p = randomProblem(5, 0, 1);
+  std::fill(p.exploring.begin(), p.exploring.end(), false);
+  r = MctsSequencer().solve(p);
+  EXPECT_FALSE(r.feasible);
+  // Malformed.
+  p.exploring.pop_back();
+  EXPECT_THROW(MctsSequencer().solve(p), std::invalid_argument);
+  p = randomProblem(5, 1, 1);
+  p.cost(2, 3) = std::nan("");
+  EXPECT_THROW(MctsSequencer().solve(p), std::invalid_argument);
+  MctsConfig c;
+  c.exploration_constant = -1.0;
+  try {
+    MctsSequencer s(c);
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("mcts.exploration_constant"), std::string::npos);
+  }
+  c = MctsConfig();
+  c.threads = 0;
+  EXPECT_THROW(MctsSequencer{c}, ConfigError);
+}
+
+}  // namespace
+}  // namespace efs::planner

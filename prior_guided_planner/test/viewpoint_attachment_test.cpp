@@ -1,0 +1,127 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include <gtest/gtest.h>
+
+#include "efs_common/config_check.h"
+#include "prior_guided_planner/viewpoint_attachment.h"
+
+namespace efs::planner {
+namespace {
+
+GuidepointPrior threeGuidepoints() {
+  GuidepointPrior g;
+  g.ids = {10, 11, 12};
+  g.positions_sketch_m = {{0, 0}, {30, 0}, {100, 0}};
+  g.prm_distance_m = CostMatrix(3, 0.0);
+  return g;
+}
+
+PlanViewpoint vp(int id, double x, double y) {
+  PlanViewpoint v;
+  v.id = id;
+  v.position_world_m = {x, y, 1.5};
+  return v;
+}
+
+// Hypothesis: scale 2, no rotation, shift (10, 5): guidepoints at (10,5), (70,5), (210,5).
+Hypothesis hyp() { return Hypothesis{1, Sim2(0.0, 2.0, {10.0, 5.0}), 0.9}; }
+
+TEST(ViewpointAttachment, AttachRuleAndTransform) {
+  const std::vector<PlanViewpoint> vps = {
+      vp(0, 12, 5),   // 2 m from G0 -> G0
+      vp(1, 40, 5),   // 30 m from G0 and G1: beyond rho -> none
+      vp(2, 65, 5),   // 5 m from G1 -> G1
+      vp(3, 24, 5),   // 14 m from G0, 46 from G1 -> G0
+      vp(4, 205, 40)  // 35 m from G2: beyond rho -> none
+  };
+  const HypothesisAttachment a =
+      attachViewpoints(hyp(), threeGuidepoints(), vps, nullptr, std::nullopt, AttachmentConfig{});
+  EXPECT_NEAR(a.guidepoints_world_m[1].x(), 70.0, 1e-12);
+  EXPECT_NEAR(a.guidepoints_world_m[2].x(), 210.0, 1e-12);
+  EXPECT_EQ(a.attached_to, (std::vector<int>{0, -1, 1, 0, -1}));
+  EXPECT_EQ(a.attached[0], (std::vector<int>{0, 3}));
+  EXPECT_EQ(a.attached[1], (std::vector<int>{2}));
+  EXPECT_TRUE(a.attached[2].empty());
+  EXPECT_EQ(a.states[0], GuidepointState::kExploring);
+  EXPECT_EQ(a.states[1], GuidepointState::kExploring);
+  EXPECT_EQ(a.states[2], GuidepointState::kUnexplored);
+}
+
+TEST(ViewpointAttachment, NearestOtherGuidepointBoundsTheRadius) {
+  AttachmentConfig cfg;
+  cfg.rho_m = 100.0;
+  // Midway between G0 (10,5) and G1 (70,5): a tie attaches to none; 1 m off -> nearer one.
+  const std::vector<PlanViewpoint> vps = {vp(0, 40, 5), vp(1, 41, 5), vp(2, 39, 30)};
+  const HypothesisAttachment a =
+      attachViewpoints(hyp(), threeGuidepoints(), vps, nullptr, std::nullopt, cfg);
+  EXPECT_EQ(a.attached_to, (std::vector<int>{-1, 1, 0}));
+}
+
+TEST(ViewpointAttachment, StatesFromObservations) {
+  const std::vector<PlanViewpoint> vps = {vp(0, 12, 5)};
+  // Well observed around G1, only poorly observed around G2.
+  const ObservationQuery obs = [](const Eigen::Vector2d& c, double r) {
+    EXPECT_DOUBLE_EQ(r, 5.0);
+    if (std::abs(c.x() - 70.0) < 1e-9) return ObservationLevel::kWellObserved;
+    if (std::abs(c.x() - 210.0) < 1e-9) return ObservationLevel::kPoorlyObserved;
+    return ObservationLevel::kNone;
+  };
+  const HypothesisAttachment a =
+      attachViewpoints(hyp(), threeGuidepoints(), vps, obs, std::nullopt, AttachmentConfig{});
+  EXPECT_EQ(a.states[0], GuidepointState::kExploring);  // attached wins over observations
+  EXPECT_EQ(a.states[1], GuidepointState::kExplored);
+  EXPECT_EQ(a.states[2], GuidepointState::kUnexplored);
+}
+
+TEST(ViewpointAttachment, GuidepointsFarOutsideTheBoundsTakeNoPart) {
+  const Eigen::AlignedBox2d bounds(Eigen::Vector2d(0, 0), Eigen::Vector2d(100, 50));
+  // G2 lands at x = 210, 110 m outside: kOutside; a viewpoint next to it attaches to nothing
+  // (and not to G1 either: it is 140 m away).
+  const std::vector<PlanViewpoint> vps = {vp(0, 205, 5), vp(1, 12, 5)};
+  const HypothesisAttachment a =
+      attachViewpoints(hyp(), threeGuidepoints(), vps, nullptr, bounds, AttachmentConfig{});
+  EXPECT_EQ(a.states[2], GuidepointState::kOutside);
+  EXPECT_EQ(a.states[1], GuidepointState::kUnexplored);
+  EXPECT_EQ(a.attached_to, (std::vector<int>{-1, 0}));
+  EXPECT_STREQ(toString(a.states[2]), "outside");
+}
+
+TEST(ViewpointAttachment, RejectsUnusableHypothesesWithAReason) {
+  Hypothesis h = hyp();
+  h.T_world_sketch.scale = std::nan("");
+  ASSERT_TRUE(hypothesisDefect(h).has_value());
+  EXPECT_NE(hypothesisDefect(h)->find("not finite"), std::string::npos);
+  EXPECT_THROW(attachViewpoints(h, threeGuidepoints(), {}, nullptr, std::nullopt, {}),
+               std::invalid_argument);
+  h = hyp();
+  h.T_world_sketch.scale = 0.0;
+  EXPECT_NE(hypothesisDefect(h)->find("not positive"), std::string::npos);
+  h.T_world_sketch.scale = -2.0;
+  EXPECT_NE(hypothesisDefect(h)->find("not positive"), std::string::npos);
+  h = hyp();
+  h.confidence = -0.1;
+  EXPECT_TRUE(hypothesisDefect(h).has_value());
+  EXPECT_FALSE(hypothesisDefect(hyp()).has_value());
+  AttachmentConfig cfg;
+  cfg.rho_m = 0.0;
+  try {
+    cfg.validate();
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("attachment.rho_m"), std::string::npos);
+  }
+}
+
+TEST(ViewpointAttachment, MalformedPriorIsRejected) {
+  GuidepointPrior g = threeGuidepoints();
+  g.prm_distance_m = CostMatrix(2);
+  EXPECT_THROW(g.validate(), std::invalid_argument);
+  g = threeGuidepoints();
+  g.prm_distance_m(0, 1) = std::nan("");
+  EXPECT_THROW(g.validate(), std::invalid_argument);
+  g = threeGuidepoints();
+  g.prm_distance_m(0, 1) = kUnreachable;  // unreachable is legal
+  EXPECT_NO_THROW(g.validate());
+}
+
+}  // namespace
+}  // namespace efs::planner
