@@ -116,44 +116,72 @@ std::vector<Viewpoint> ViewpointSampler::sample(const FrontierCluster& cluster, 
   const double scale = static_cast<double>(n) / static_cast<double>(std::max<size_t>(m, 1));
   const double range = std::min(config_.useful_range_m, fov_.config().max_range_m);
 
-  std::vector<Viewpoint> cand;
+  // Candidates with their upper bound (cells within range), best bound first; the costly
+  // line-of-sight scoring stops once no remaining bound can beat the kept viewpoints.
+  struct Candidate {
+    Eigen::Vector3d p;
+    int bound;
+    int order;
+  };
+  std::vector<Candidate> cand;
   for (double radius : config_.ring_radii_m) {
     for (double dz : config_.height_offsets_m) {
       for (int a = 0; a < config_.num_azimuths; ++a) {
         const double az = 2.0 * kPi * a / config_.num_azimuths;
-        const Eigen::Vector3d p =
-            cluster.centroid_world_m + Eigen::Vector3d(radius * std::cos(az), radius * std::sin(az), dz);
-        // Upper bound first: cells in range; skips the line-of-sight work for hopeless spots.
+        const Eigen::Vector3d p = cluster.centroid_world_m +
+                                  Eigen::Vector3d(radius * std::cos(az), radius * std::sin(az), dz);
         int in_range = 0;
         for (const Eigen::Vector3d& q : cells) in_range += (q - p).norm() <= range;
         if (in_range < config_.min_visible_cells) continue;
-        if (!occ.isSafe(p, config_.clearance_m, !config_.require_known_free)) continue;
-        double yaw = 0.0;
-        const int seen = scoreAt(p, cells, occ, &yaw);
-        if (seen < config_.min_visible_cells) continue;
-        Viewpoint v;
-        v.cluster_id = cluster.id;
-        v.position_world_m = p;
-        v.yaw_rad = yaw;
-        v.visible_cells = static_cast<int>(std::lround(seen * scale));
-        cand.push_back(v);
+        cand.push_back({p, in_range, static_cast<int>(cand.size())});
       }
     }
   }
-  // Best first; ties to the closer candidate, then the generation order (deterministic).
-  std::stable_sort(cand.begin(), cand.end(), [&](const Viewpoint& a, const Viewpoint& b) {
-    if (a.visible_cells != b.visible_cells) return a.visible_cells > b.visible_cells;
-    return (a.position_world_m - cluster.centroid_world_m).squaredNorm() <
-           (b.position_world_m - cluster.centroid_world_m).squaredNorm() - 1e-9;
-  });
-  std::vector<Viewpoint> out;
-  for (const Viewpoint& v : cand) {
-    if (static_cast<int>(out.size()) >= config_.max_viewpoints_per_cluster) break;
-    bool far = true;
-    for (const Viewpoint& k : out)
-      far = far && (k.position_world_m - v.position_world_m).norm() >= config_.min_viewpoint_separation_m;
-    if (far) out.push_back(v);
+  std::stable_sort(cand.begin(), cand.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.bound > b.bound; });
+  const size_t keep = static_cast<size_t>(config_.max_viewpoints_per_cluster);
+  std::vector<std::pair<int, Viewpoint>> scored;  // (generation order, viewpoint)
+  auto better = [&](const std::pair<int, Viewpoint>& a, const std::pair<int, Viewpoint>& b) {
+    if (a.second.visible_cells != b.second.visible_cells)
+      return a.second.visible_cells > b.second.visible_cells;
+    const double da = (a.second.position_world_m - cluster.centroid_world_m).squaredNorm();
+    const double db = (b.second.position_world_m - cluster.centroid_world_m).squaredNorm();
+    if (std::abs(da - db) > 1e-9) return da < db;  // ties: closer to the cluster
+    return a.first < b.first;
+  };
+  std::vector<std::pair<int, Viewpoint>> kept;
+  auto rebuildKept = [&] {
+    std::sort(scored.begin(), scored.end(), better);
+    kept.clear();
+    for (const auto& v : scored) {
+      if (kept.size() >= keep) break;
+      bool far = true;
+      for (const auto& k : kept)
+        far = far && (k.second.position_world_m - v.second.position_world_m).norm() >=
+                         config_.min_viewpoint_separation_m;
+      if (far) kept.push_back(v);
+    }
+  };
+  for (const Candidate& c : cand) {
+    // A full kept list whose worst member sees at least what this candidate could: done.
+    // (Ties therefore go to the candidate with the larger bound, then the generation order.)
+    if (kept.size() >= keep &&
+        std::lround(c.bound * scale) <= kept.back().second.visible_cells)
+      break;
+    if (!occ.isSafe(c.p, config_.clearance_m, !config_.require_known_free)) continue;
+    double yaw = 0.0;
+    const int seen = scoreAt(c.p, cells, occ, &yaw);
+    if (seen < config_.min_visible_cells) continue;
+    Viewpoint v;
+    v.cluster_id = cluster.id;
+    v.position_world_m = c.p;
+    v.yaw_rad = yaw;
+    v.visible_cells = static_cast<int>(std::lround(seen * scale));
+    scored.emplace_back(c.order, v);
+    rebuildKept();
   }
+  std::vector<Viewpoint> out;
+  for (const auto& k : kept) out.push_back(k.second);
   return out;
 }
 

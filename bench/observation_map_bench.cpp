@@ -1,0 +1,238 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// Observation map / occupancy / frontier / viewpoint / path-length timing and memory on a
+// synthetic cave, one core.
+//  - Scene: a winding tube (centre line of 5 m segments meandering in x-y and z, radius
+//    3.5-5 m with bumps), ray cast by sphere tracing in this file.
+//  - Scans: Livox Mid-360 shaped, 20k points per 10 Hz frame (360 deg azimuth, -7..+52 deg
+//    elevation, low-discrepancy pattern shifted every frame), mounted with 15 deg pitch, 40 m
+//    range, the vehicle flying along the centre line looking ahead (`step_m` per frame).
+//  - Timed per frame: occupancy ray casting, observation-map update (targets: both together
+//    under 20 ms median), frontier clustering + viewpoint update; at the end L(robot, viewpoint)
+//    searches (cold) and the same queries again (cache).
+//  - Times are this thread's CPU time (one core), so other load on the machine does not count.
+//  - Memory: map bytes per metre of cave and per m^2 of surface, every `report_every_m`.
+// Usage: observation_map_bench [cave_length_m=150] [step_m=0.5] [report_every_m=25]
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <vector>
+
+#include "efs_common/resource_usage.h"
+#include "prior_guided_planner/frontier_clusters.h"
+#include "prior_guided_planner/observation_map.h"
+#include "prior_guided_planner/occupancy_map.h"
+#include "prior_guided_planner/path_length.h"
+#include "prior_guided_planner/viewpoint_sampler.h"
+
+using namespace efs::planner;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+class Cave {
+ public:
+  explicit Cave(double length_m) {
+    const int n = static_cast<int>(std::ceil(length_m / 5.0)) + 3;
+    for (int k = -2; k < n; ++k) {
+      const double x = 5.0 * k;
+      centre_.emplace_back(x, 15.0 * std::sin(x / 40.0) + 4.0 * std::sin(x / 11.0),
+                           2.0 * std::sin(x / 25.0));
+    }
+  }
+  // Wall radius at a point: smooth bumps, 3.5..5 m.
+  static double radius(const Eigen::Vector3d& p) {
+    return 4.25 + 0.45 * std::sin(0.7 * p.x()) * std::sin(0.9 * p.y()) +
+           0.3 * std::sin(1.3 * p.z() + 0.4 * p.x());
+  }
+  // Distance to the centre line near segment `seg` (updates seg to the closest one).
+  double lineDistance(const Eigen::Vector3d& p, int& seg) const {
+    double best = 1e300;
+    int best_s = seg;
+    const int lo = std::max(0, seg - 3), hi = std::min<int>(centre_.size() - 2, seg + 3);
+    for (int s = lo; s <= hi; ++s) {
+      const Eigen::Vector3d a = centre_[s], d = centre_[s + 1] - a;
+      const double t = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+      const double dist = (a + t * d - p).norm();
+      if (dist < best) best = dist, best_s = s;
+    }
+    seg = best_s;
+    return best;
+  }
+  // Sphere tracing of the tube's inside: the wall is where the distance reaches the radius.
+  bool cast(const Eigen::Vector3d& o, const Eigen::Vector3d& dir, int seg, double max_range_m,
+            Eigen::Vector3d* hit) const {
+    double t = 0.0;
+    for (int it = 0; it < 200 && t < max_range_m; ++it) {
+      const Eigen::Vector3d p = o + t * dir;
+      const double gap = radius(p) - lineDistance(p, seg);
+      if (gap < 0.01) {
+        *hit = p;
+        return true;
+      }
+      t += std::max(0.6 * gap, 0.01);
+    }
+    return false;
+  }
+  Eigen::Vector3d along(double s_m, Eigen::Vector3d* tangent, int* seg) const {
+    const int k = std::min<int>(static_cast<int>(s_m / 5.0) + 2, centre_.size() - 2);
+    const double f = s_m / 5.0 + 2 - k;
+    *tangent = (centre_[k + 1] - centre_[k]).normalized();
+    *seg = k;
+    return centre_[k] + f * (centre_[k + 1] - centre_[k]);
+  }
+
+ private:
+  std::vector<Eigen::Vector3d> centre_;
+};
+
+// Mid-360-like frame: low-discrepancy directions, shifted by the frame index.
+std::vector<Eigen::Vector3d> mid360Scan(const Cave& cave, const Eigen::Vector3d& o, double yaw,
+                                        int seg, int frame, int n_points, double pitch_rad) {
+  std::vector<Eigen::Vector3d> pts;
+  pts.reserve(n_points);
+  const double s_lo = std::sin(-7.0 * kPi / 180.0), s_hi = std::sin(52.0 * kPi / 180.0);
+  const double cp = std::cos(pitch_rad), sp = std::sin(pitch_rad);
+  const double cy = std::cos(yaw), sy = std::sin(yaw);
+  const double shift1 = std::fmod(frame * 0.3819660113, 1.0), shift2 = std::fmod(frame * 0.1234567, 1.0);
+  for (int i = 0; i < n_points; ++i) {
+    const double u = std::fmod(i * 0.7548776662466927 + shift1, 1.0);
+    const double v = std::fmod(i * 0.5698402909980532 + shift2, 1.0);
+    const double az = 2.0 * kPi * u;
+    const double el = std::asin(s_lo + v * (s_hi - s_lo));
+    const Eigen::Vector3d ds(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    // sensor -> body (pitch about y, nose down positive) -> world (yaw)
+    const Eigen::Vector3d db(cp * ds.x() + sp * ds.z(), ds.y(), -sp * ds.x() + cp * ds.z());
+    const Eigen::Vector3d dw(cy * db.x() - sy * db.y(), sy * db.x() + cy * db.y(), db.z());
+    Eigen::Vector3d hit;
+    if (cave.cast(o, dw, seg, 40.0, &hit)) pts.push_back(hit);
+  }
+  return pts;
+}
+
+// This thread's CPU time: the "one core" budget, unaffected by other load on the machine.
+class CpuWatch {
+ public:
+  CpuWatch() { restart(); }
+  void restart() { start_ = now(); }
+  double elapsedMs() const { return 1e3 * (now() - start_); }
+
+ private:
+  static double now() {
+    timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+  }
+  double start_ = 0.0;
+};
+
+struct Series {
+  std::vector<double> v;
+  double pct(double q) const {
+    if (v.empty()) return 0.0;
+    std::vector<double> s = v;
+    std::sort(s.begin(), s.end());
+    return s[std::min(s.size() - 1, static_cast<size_t>(q * (s.size() - 1) + 0.5))];
+  }
+  double max() const { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const double length_m = argc > 1 ? std::atof(argv[1]) : 150.0;
+  const double step_m = argc > 2 ? std::atof(argv[2]) : 0.5;
+  const double report_every_m = argc > 3 ? std::atof(argv[3]) : 25.0;
+  const int kPoints = 20000;
+  const double kPitch = 15.0 * kPi / 180.0;
+
+  Cave cave(length_m + 45.0);
+  OccupancyMap occ;
+  ObservationMap obs;
+  FrontierClusterer clusters;
+  ViewpointManager viewpoints;
+  PathLengthCache paths(occ);
+
+  Series t_occ, t_obs, t_map, t_front, t_vp, pts_per_scan;
+  std::printf("observation_map_bench: cave %.0f m, %.2f m per frame, %d-point Mid-360 frames, "
+              "40 m range, 0.3 m cells\n\n",
+              length_m, step_m, kPoints);
+  std::printf("%9s %10s %10s %10s %12s %12s %10s %10s %9s\n", "flown_m", "surface", "well_obs",
+              "frontier", "occ_blocks", "map_MiB", "B/m_cave", "B/m2_surf", "clusters");
+  int frame = 0;
+  double next_report = report_every_m;
+  Eigen::Vector3d robot = Eigen::Vector3d::Zero();
+  for (double s = 0.0; s <= length_m + 1e-9; s += step_m, ++frame) {
+    Eigen::Vector3d tangent;
+    int seg = 0;
+    const Eigen::Vector3d o = cave.along(s, &tangent, &seg);
+    robot = o;
+    const std::vector<Eigen::Vector3d> pts =
+        mid360Scan(cave, o, std::atan2(tangent.y(), tangent.x()), seg, frame, kPoints, kPitch);
+    pts_per_scan.v.push_back(pts.size());
+    CpuWatch w;
+    occ.insertScan(o, pts);
+    const double a = w.elapsedMs();
+    w.restart();
+    obs.insertScan(o, pts);
+    const double b = w.elapsedMs();
+    paths.sync();
+    w.restart();
+    clusters.update(obs);
+    const double c = w.elapsedMs();
+    w.restart();
+    viewpoints.update(clusters, occ, obs.resolution());
+    const double d = w.elapsedMs();
+    t_occ.v.push_back(a);
+    t_obs.v.push_back(b);
+    t_map.v.push_back(a + b);
+    t_front.v.push_back(c);
+    t_vp.v.push_back(d);
+    if (s + 1e-9 >= next_report) {
+      next_report += report_every_m;
+      const double bytes = static_cast<double>(occ.memoryBytes() + obs.memoryBytes());
+      const double surf_m2 = obs.numSurfaceCells() * obs.resolution() * obs.resolution();
+      std::printf("%9.0f %10zu %10zu %10zu %12zu %12.1f %10.0f %10.0f %9zu\n", s,
+                  obs.numSurfaceCells(), obs.numWellObserved(), obs.numFrontierCells(),
+                  occ.numBlocks(), bytes / (1 << 20), bytes / std::max(s, 1.0),
+                  bytes / std::max(surf_m2, 1.0), clusters.clusters().size());
+    }
+  }
+  std::printf("\nper frame (%d frames, %.0f points median):\n", frame, pts_per_scan.pct(0.5));
+  std::printf("%-34s %9s %9s %9s %10s\n", "stage", "median_ms", "p90_ms", "max_ms", "target");
+  auto row = [](const char* name, const Series& s, const char* target) {
+    std::printf("%-34s %9.2f %9.2f %9.2f %10s\n", name, s.pct(0.5), s.pct(0.9), s.max(), target);
+  };
+  row("occupancy ray casting", t_occ, "");
+  row("observation map", t_obs, "");
+  row("map update (occupancy + obs.)", t_map, "< 20 ms");
+  row("frontier clustering", t_front, "");
+  row("viewpoint update", t_vp, "");
+  Series t_fv;
+  for (size_t i = 0; i < t_front.v.size(); ++i) t_fv.v.push_back(t_front.v[i] + t_vp.v[i]);
+  row("frontier + viewpoint update", t_fv, "");
+
+  // Path lengths from the final robot position to every viewpoint: cold, then cached.
+  const std::vector<Viewpoint> vps = viewpoints.all();
+  Series cold, warm;
+  int reachable = 0;
+  for (const Viewpoint& v : vps) {
+    CpuWatch w;
+    const auto l = paths.length(~0ull, robot, static_cast<uint64_t>(v.id), v.position_world_m);
+    cold.v.push_back(w.elapsedMs());
+    reachable += l.has_value();
+  }
+  for (const Viewpoint& v : vps) {
+    CpuWatch w;
+    paths.length(~0ull, robot, static_cast<uint64_t>(v.id), v.position_world_m);
+    warm.v.push_back(w.elapsedMs());
+  }
+  std::printf("\npath lengths robot -> %zu viewpoints (%d reachable):\n", vps.size(), reachable);
+  row("L(robot, viewpoint), searched", cold, "");
+  row("L(robot, viewpoint), cached", warm, "");
+  std::printf("\npeak RSS %.1f MiB\n", efs::peakRssBytes() / double(1 << 20));
+  return 0;
+}
