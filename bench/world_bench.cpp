@@ -6,10 +6,11 @@
 // 40 m range from free, enclosed origins, on one core (CPU time).
 // Prints a table; never asserts.
 //
-//   world_bench [--resolution 0.15] [--rays 2000000] [--worlds garage,simple_cave,subt_cave,indoor,ed21,mine]
+//   world_bench [--resolution 0.15] [--rays 2000000] [--worlds
+//   garage,simple_cave,subt_cave,indoor,ed21,mine]
 #include <cmath>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -40,7 +41,8 @@ RayStats measureRays(const VoxelWorld& w, long total_rays) {
   const Eigen::AlignedBox3d b = w.bounds();
   std::vector<Eigen::Vector3d> origins{w.start_poses.front().position_m};
   for (int tries = 0; origins.size() < 32 && tries < 2000000; ++tries) {
-    const Eigen::Vector3d p(rng.uniform(b.min().x(), b.max().x()), rng.uniform(b.min().y(), b.max().y()),
+    const Eigen::Vector3d p(rng.uniform(b.min().x(), b.max().x()),
+                            rng.uniform(b.min().y(), b.max().y()),
                             rng.uniform(b.min().z(), b.max().z()));
     if (w.collides(p, 0.5)) continue;
     bool enclosed = true;
@@ -57,7 +59,8 @@ RayStats measureRays(const VoxelWorld& w, long total_rays) {
     const double az = rng.uniform(-M_PI, M_PI);
     const double el = efs::deg2rad(rng.uniform(-7.0, 52.0));
     d = Eigen::Vector3f(static_cast<float>(std::cos(el) * std::cos(az)),
-                        static_cast<float>(std::cos(el) * std::sin(az)), static_cast<float>(std::sin(el)));
+                        static_cast<float>(std::cos(el) * std::sin(az)),
+                        static_cast<float>(std::sin(el)));
   }
   std::vector<float> ranges;
   long cast = 0, hits = 0;
@@ -100,9 +103,11 @@ int main(int argc, char** argv) {
     const long rays = args.integer("rays", 2000000);
     const std::vector<std::string> worlds =
         split(args.str("worlds", "garage,simple_cave,subt_cave,indoor,ed21,mine"));
-    std::printf("world_bench: resolution %.2f m, %ld rays per world at 40 m range, one core\n\n", res, rays);
-    std::printf("| world | size (m) | build (s) | world (MB) | peak RSS (MB) | masked bricks | full bricks "
-                "| sketch (s) | rays/s (M) | hits | mean range (m) |\n");
+    std::printf("world_bench: resolution %.2f m, %ld rays per world at 40 m range, one core\n\n",
+                res, rays);
+    std::printf(
+        "| world | size (m) | build (s) | world (MB) | peak RSS (MB) | masked bricks | full bricks "
+        "| sketch (s) | rays/s (M) | hits | mean range (m) |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (const std::string& name : worlds) {
       efs::resetPeakRss();
@@ -110,9 +115,11 @@ int main(int argc, char** argv) {
       VoxelWorld w = [&]() {
         ImportConfig ic;
         ic.resolution_m = res;
-        if (name == "ed21") return importSdfWorld(efs::testing::sharedDataPath("ed21/ed21.world"), ic);
+        if (name == "ed21")
+          return importSdfWorld(efs::testing::sharedDataPath("ed21/ed21.world"), ic);
         if (name == "mine") {
-          return importSdfWorld(efs::testing::sharedDataPath("pittsburgh_mine/pittsburgh_mine.world"), ic);
+          return importSdfWorld(
+              efs::testing::sharedDataPath("pittsburgh_mine/pittsburgh_mine.world"), ic);
         }
         return generateWorld(parseWorldKind(name), WorldSize::kPaper, 1, res);
       }();
@@ -123,10 +130,12 @@ int main(int argc, char** argv) {
       const size_t peak = efs::peakRssBytes();
       const RayStats rs = measureRays(w, rays);
       const Eigen::Vector3d size = w.bounds().sizes();
-      std::printf("| %s | %.0f x %.0f x %.1f | %.2f | %.1f | %.0f | %zu | %zu | %.2f | %.2f | %.0f%% | %.1f |\n",
-                  name.c_str(), size.x(), size.y(), size.z(), build_s, w.memoryBytes() / 1e6, peak / 1e6,
-                  w.maskedBrickCount(), w.fullBrickCount(), sketch_s, rs.rays_per_s / 1e6,
-                  100.0 * rs.hit_share, rs.mean_range_m);
+      std::printf(
+          "| %s | %.0f x %.0f x %.1f | %.2f | %.1f | %.0f | %zu | %zu | %.2f | %.2f | %.0f%% | "
+          "%.1f |\n",
+          name.c_str(), size.x(), size.y(), size.z(), build_s, w.memoryBytes() / 1e6, peak / 1e6,
+          w.maskedBrickCount(), w.fullBrickCount(), sketch_s, rs.rays_per_s / 1e6,
+          100.0 * rs.hit_share, rs.mean_range_m);
       std::fflush(stdout);
       (void)sk;
     }

@@ -34,7 +34,8 @@ std::vector<uint8_t> lzfDecompress(const uint8_t* in, size_t in_len, size_t out_
     const unsigned ctrl = in[ip++];
     if (ctrl < 32) {  // literal run of ctrl + 1 bytes
       const size_t n = ctrl + 1;
-      if (ip + n > in_len || op + n > out_len) throw std::runtime_error(where + ": corrupt LZF literal");
+      if (ip + n > in_len || op + n > out_len)
+        throw std::runtime_error(where + ": corrupt LZF literal");
       std::memcpy(&out[op], &in[ip], n);
       ip += n;
       op += n;
@@ -47,7 +48,8 @@ std::vector<uint8_t> lzfDecompress(const uint8_t* in, size_t in_len, size_t out_
       }
       const size_t back = ((ctrl & 0x1f) << 8) + in[ip++] + 1;
       len += 2;
-      if (back > op || op + len > out_len) throw std::runtime_error(where + ": corrupt LZF reference");
+      if (back > op || op + len > out_len)
+        throw std::runtime_error(where + ": corrupt LZF reference");
       for (size_t k = 0; k < len; ++k, ++op) out[op] = out[op - back];
     }
   }
@@ -69,9 +71,19 @@ double readValue(const uint8_t* p, const PcdField& f) {
   int64_t v = 0;
   if (f.type == 'I') {
     if (f.size == 1) v = *reinterpret_cast<const int8_t*>(p);
-    if (f.size == 2) { int16_t t; std::memcpy(&t, p, 2); v = t; }
-    if (f.size == 4) { int32_t t; std::memcpy(&t, p, 4); v = t; }
-    if (f.size == 8) { std::memcpy(&v, p, 8); }
+    if (f.size == 2) {
+      int16_t t;
+      std::memcpy(&t, p, 2);
+      v = t;
+    }
+    if (f.size == 4) {
+      int32_t t;
+      std::memcpy(&t, p, 4);
+      v = t;
+    }
+    if (f.size == 8) {
+      std::memcpy(&v, p, 8);
+    }
   } else {
     uint64_t u = 0;
     std::memcpy(&u, p, static_cast<size_t>(f.size));
@@ -130,7 +142,8 @@ std::vector<Eigen::Vector3f> loadPcdPoints(const std::string& path) {
       fail("unknown header key '" + key + "'");
     }
   }
-  if (data.empty()) throw std::runtime_error("PCD '" + path + "' has no DATA line (not a PCD file?)");
+  if (data.empty())
+    throw std::runtime_error("PCD '" + path + "' has no DATA line (not a PCD file?)");
   if (fields.empty()) throw std::runtime_error("PCD '" + path + "' has no FIELDS");
   if (!sizes.empty() && sizes.size() != fields.size()) fail("SIZE does not match FIELDS");
   if (!types.empty() && types.size() != fields.size()) fail("TYPE does not match FIELDS");
@@ -196,22 +209,26 @@ std::vector<Eigen::Vector3f> loadPcdPoints(const std::string& path) {
     }
     for (size_t n = 0; n < points; ++n) {
       const uint8_t* p = buf.data() + n * stride;
-      push(readValue(p + fields[ix].offset, fields[ix]), readValue(p + fields[iy].offset, fields[iy]),
+      push(readValue(p + fields[ix].offset, fields[ix]),
+           readValue(p + fields[iy].offset, fields[iy]),
            readValue(p + fields[iz].offset, fields[iz]));
     }
   } else if (data == "binary_compressed") {
     uint32_t sizes_hdr[2];
     in.read(reinterpret_cast<char*>(sizes_hdr), sizeof(sizes_hdr));
-    if (in.gcount() != sizeof(sizes_hdr)) throw std::runtime_error("PCD '" + path + "': truncated compressed header");
+    if (in.gcount() != sizeof(sizes_hdr))
+      throw std::runtime_error("PCD '" + path + "': truncated compressed header");
     if (sizes_hdr[1] != stride * points) {
-      throw std::runtime_error("PCD '" + path + "': compressed payload size does not match the header");
+      throw std::runtime_error("PCD '" + path +
+                               "': compressed payload size does not match the header");
     }
     std::vector<uint8_t> comp(sizes_hdr[0]);
     in.read(reinterpret_cast<char*>(comp.data()), static_cast<std::streamsize>(comp.size()));
     if (static_cast<size_t>(in.gcount()) != comp.size()) {
       throw std::runtime_error("PCD '" + path + "': compressed data is truncated");
     }
-    const std::vector<uint8_t> raw = lzfDecompress(comp.data(), comp.size(), sizes_hdr[1], "PCD '" + path + "'");
+    const std::vector<uint8_t> raw =
+        lzfDecompress(comp.data(), comp.size(), sizes_hdr[1], "PCD '" + path + "'");
     // Field-major layout: each field's values for all points lie together.
     std::vector<size_t> field_start(fields.size());
     size_t acc = 0;

@@ -25,7 +25,8 @@ Eigen::AlignedBox3d alignBrickBoundary(const Eigen::AlignedBox3d& extent_m, doub
                                        double resolution_m) {
   const double brick_m = VoxelWorld::kBrickEdge * resolution_m;
   Eigen::AlignedBox3d out = extent_m;
-  out.min().z() = z_boundary_m - std::ceil((z_boundary_m - extent_m.min().z()) / brick_m - 1e-9) * brick_m;
+  out.min().z() =
+      z_boundary_m - std::ceil((z_boundary_m - extent_m.min().z()) / brick_m - 1e-9) * brick_m;
   return out;
 }
 
@@ -74,7 +75,8 @@ bool VoxelWorld::occupied(const Eigen::Vector3i& v) const {
   if (slot == kEmptyBrick) return false;
   if (slot == kFullBrick) return true;
   const BrickMask& m = pool_[static_cast<size_t>(slot)];
-  return (m.rows[v.z() & kBrickMask] >> ((v.x() & kBrickMask) + kBrickEdge * (v.y() & kBrickMask))) &
+  return (m.rows[v.z() & kBrickMask] >>
+          ((v.x() & kBrickMask) + kBrickEdge * (v.y() & kBrickMask))) &
          1u;
 }
 
@@ -114,8 +116,7 @@ void VoxelWorld::setVoxel(const Eigen::Vector3i& v, bool occ) {
   const int32_t current = bricks_[static_cast<size_t>(lin)];
   if ((current == kFullBrick && occ) || (current == kEmptyBrick && !occ)) return;
   const int32_t slot = materialise(lin);
-  const uint64_t bit = uint64_t{1}
-                       << ((v.x() & kBrickMask) + kBrickEdge * (v.y() & kBrickMask));
+  const uint64_t bit = uint64_t{1} << ((v.x() & kBrickMask) + kBrickEdge * (v.y() & kBrickMask));
   uint64_t& row = pool_[static_cast<size_t>(slot)].rows[v.z() & kBrickMask];
   row = occ ? (row | bit) : (row & ~bit);
 }
@@ -124,11 +125,11 @@ void VoxelWorld::fillBox(const Eigen::AlignedBox3d& box_m, bool occ) {
   if (box_m.isEmpty()) return;
   Eigen::Vector3i lo, hi;
   for (int a = 0; a < 3; ++a) {
-    lo[a] = std::max(0, static_cast<int>(
-                            std::floor((box_m.min()[a] - origin_m_[a]) * inv_resolution_)));
-    hi[a] = std::min(dims_vox_[a] - 1,
-                     static_cast<int>(std::ceil((box_m.max()[a] - origin_m_[a]) * inv_resolution_)) -
-                         1);
+    lo[a] = std::max(
+        0, static_cast<int>(std::floor((box_m.min()[a] - origin_m_[a]) * inv_resolution_)));
+    hi[a] = std::min(
+        dims_vox_[a] - 1,
+        static_cast<int>(std::ceil((box_m.max()[a] - origin_m_[a]) * inv_resolution_)) - 1);
     if (hi[a] < lo[a]) return;
   }
   const Eigen::Vector3i b_lo = brickOf(lo), b_hi = brickOf(hi);
@@ -225,8 +226,8 @@ float VoxelWorld::castRay(const Eigen::Vector3d& origin_m, const Eigen::Vector3d
   const int64_t lin_step[3] = {step[0], step[1] * stride_y, step[2] * stride_z};
   double t_enter = t0;
   for (;;) {
-    const int axis = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2)
-                                           : (t_next[1] < t_next[2] ? 1 : 2);
+    const int axis =
+        t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
     const double t_exit = std::min(t_next[axis], t1);
     const int32_t slot = bricks_[static_cast<size_t>(lin)];
     if (slot == kFullBrick) return static_cast<float>(t_enter * resolution_m_);
@@ -385,14 +386,17 @@ std::size_t VoxelWorld::occupiedVoxelCount() const {
 std::vector<uint8_t> VoxelWorld::freeColumns(double z_min_m, double z_max_m) const {
   const int nx = dims_vox_.x(), ny = dims_vox_.y();
   std::vector<uint8_t> out(static_cast<size_t>(nx) * ny, 0);
-  const int z0 = std::max(0, static_cast<int>(std::ceil((z_min_m - origin_m_.z()) * inv_resolution_ - 0.5)));
-  const int z1 = std::min(dims_vox_.z() - 1,
-                          static_cast<int>(std::floor((z_max_m - origin_m_.z()) * inv_resolution_ - 0.5)));
+  const int z0 =
+      std::max(0, static_cast<int>(std::ceil((z_min_m - origin_m_.z()) * inv_resolution_ - 0.5)));
+  const int z1 =
+      std::min(dims_vox_.z() - 1,
+               static_cast<int>(std::floor((z_max_m - origin_m_.z()) * inv_resolution_ - 0.5)));
   if (z1 < z0) return out;
   for (int by = 0; by < dims_bricks_.y(); ++by) {
     for (int bx = 0; bx < dims_bricks_.x(); ++bx) {
       uint64_t free_bits = 0;  // bit (x + 8 y) set: that column has a free voxel in the band
-      for (int bz = z0 >> kBrickShift; bz <= (z1 >> kBrickShift) && free_bits != ~uint64_t{0}; ++bz) {
+      for (int bz = z0 >> kBrickShift; bz <= (z1 >> kBrickShift) && free_bits != ~uint64_t{0};
+           ++bz) {
         const int32_t slot = bricks_[brickLinear({bx, by, bz})];
         if (slot == kFullBrick) continue;
         if (slot == kEmptyBrick) {

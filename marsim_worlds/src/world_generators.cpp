@@ -200,8 +200,7 @@ VoxelWorld generateCave(const CaveConfig& c) {
   std::vector<TunnelSegment> segs;
   SegmentBuckets buckets(c.size_m.head<2>(), std::max(separation_m, c.segment_length_m));
 
-  const Eigen::Vector3d start(margin_h + 0.5,
-                              c.size_m.y() * (0.5 + 0.2 * rng.uniform(-1.0, 1.0)),
+  const Eigen::Vector3d start(margin_h + 0.5, c.size_m.y() * (0.5 + 0.2 * rng.uniform(-1.0, 1.0)),
                               0.5 * (z_lo + z_hi));
   nodes.push_back({start, c.tunnel_radius_m * (1.0 + c.radius_variation), {}});
   std::deque<Tip> tips;
@@ -248,8 +247,8 @@ VoxelWorld generateCave(const CaveConfig& c) {
     for (int attempt = 0; attempt < 8 && !placed; ++attempt) {
       heading = tip.heading_rad + rng.uniform(-1.0, 1.0) * c.max_turn_rad * (1.0 + 0.5 * attempt);
       if (tip.trunk) heading -= c.trunk_heading_pull * wrapAngle(heading);
-      pitch = std::clamp(tip.pitch + rng.uniform(-0.5, 0.5) * c.max_slope, -c.max_slope,
-                         c.max_slope);
+      pitch =
+          std::clamp(tip.pitch + rng.uniform(-0.5, 0.5) * c.max_slope, -c.max_slope, c.max_slope);
       len = c.segment_length_m * rng.uniform(0.75, 1.25);
       q = p + len * Eigen::Vector3d(std::cos(heading), std::sin(heading), pitch);
       if (q.z() < z_lo || q.z() > z_hi) {
@@ -295,9 +294,9 @@ VoxelWorld generateCave(const CaveConfig& c) {
     const double r_seg = std::max(na.radius_m, nb.radius_m) + c.wall_roughness_m;
     const Eigen::Vector3d reach(r_seg, r_seg, r_seg / c.vertical_squash);
     Box3 box(na.p.cwiseMin(nb.p) - reach, na.p.cwiseMax(nb.p) + reach);
-    const double lipschitz = c.vertical_squash * (1.0 + std::abs(nb.radius_m - na.radius_m) /
-                                                            std::sqrt(len2)) +
-                             noise_lipschitz;
+    const double lipschitz =
+        c.vertical_squash * (1.0 + std::abs(nb.radius_m - na.radius_m) / std::sqrt(len2)) +
+        noise_lipschitz;
     world.paint(box, false, lipschitz, [&](const Eigen::Vector3d& p_m) {
       const Eigen::Vector3d ps = p_m.cwiseProduct(squash);
       const double t = std::clamp((ps - a).dot(ab) / len2, 0.0, 1.0);
@@ -347,8 +346,9 @@ void GarageConfig::validate() const {
   requireInRange("car_probability", car_probability, 0.0, 1.0);
   requireInRange("service_cores", service_cores, 0, 100);
   requireInRange("start_clearance_m", start_clearance_m, 0.0, 0.5 * aisle_width_m);
-  requireThat(size_m.x() > 3.0 * aisle_width_m && size_m.y() > 2.0 * aisle_width_m + 2.0 * bay_depth_m,
-              "size_m", "too small for one parking module");
+  requireThat(
+      size_m.x() > 3.0 * aisle_width_m && size_m.y() > 2.0 * aisle_width_m + 2.0 * bay_depth_m,
+      "size_m", "too small for one parking module");
   requireThat(size_m.z() > 2.5, "size_m", "ceiling lower than 2.5 m");
 }
 
@@ -425,9 +425,9 @@ VoxelWorld generateGarage(const GarageConfig& c) {
   world.compact();
   world.name = "garage";
   world.sketch_band = {1.0, 1.8};
-  world.start_poses = {{Eigen::Vector3d(0.5 * a, rng.uniform(0.3, 0.7) * c.size_m.y(),
-                                        std::min(1.2, 0.5 * h)),
-                        0.0}};
+  world.start_poses = {
+      {Eigen::Vector3d(0.5 * a, rng.uniform(0.3, 0.7) * c.size_m.y(), std::min(1.2, 0.5 * h)),
+       0.0}};
   world.validateStartPoses(c.start_clearance_m);
   return world;
 }
@@ -491,7 +491,8 @@ VoxelWorld generateIndoor(const IndoorConfig& c) {
   auto corridorBox = [&](const Eigen::Vector2d& p, int dir, double len) {
     const Eigen::Vector2d e = p + kDirs[dir] * len;
     const Eigen::Vector2d back = p - kDirs[dir] * 0.5 * w;  // overlap the corridor we leave
-    const Eigen::Vector2d side = Eigen::Vector2d(kDirs[dir].y(), kDirs[dir].x()).cwiseAbs() * 0.5 * w;
+    const Eigen::Vector2d side =
+        Eigen::Vector2d(kDirs[dir].y(), kDirs[dir].x()).cwiseAbs() * 0.5 * w;
     return Box2(back.cwiseMin(e) - side, back.cwiseMax(e) + side);
   };
 
@@ -501,7 +502,8 @@ VoxelWorld generateIndoor(const IndoorConfig& c) {
     int parent;
   };
   std::deque<CorridorTip> tips;
-  const Eigen::Vector2d p0(c.size_m.x() * rng.uniform(0.3, 0.5), c.size_m.y() * rng.uniform(0.3, 0.7));
+  const Eigen::Vector2d p0(c.size_m.x() * rng.uniform(0.3, 0.5),
+                           c.size_m.y() * rng.uniform(0.3, 0.7));
   const int dir0 = static_cast<int>(rng.index(4));
   tips.push_back({p0, dir0, -1});
   double corridor_m = 0.0;
@@ -536,8 +538,8 @@ VoxelWorld generateIndoor(const IndoorConfig& c) {
   // Rooms against a host's side, the wall between them pierced by one door.
   for (int attempt = 0; attempt < c.room_attempts; ++attempt) {
     const bool suite = !room_ids.empty() && rng.chance(c.suite_probability);
-    const int host = suite ? room_ids[rng.index(room_ids.size())]
-                           : corridor_ids[rng.index(corridor_ids.size())];
+    const int host =
+        suite ? room_ids[rng.index(room_ids.size())] : corridor_ids[rng.index(corridor_ids.size())];
     const Box2& hb = spaces[static_cast<size_t>(host)];
     const int side = static_cast<int>(rng.index(4));
     const int along = side % 2 == 0 ? 1 : 0;  // sides 0/2 are x = const walls
@@ -573,10 +575,10 @@ VoxelWorld generateIndoor(const IndoorConfig& c) {
   }
 
   const double h = c.size_m.z();
-  VoxelWorld world(
-      alignBrickBoundary(Box3(Eigen::Vector3d(0, 0, -t), Eigen::Vector3d(c.size_m.x(), c.size_m.y(), h + t)),
-                         h, c.resolution_m),
-      c.resolution_m, VoxelWorld::Fill::kSolid);
+  VoxelWorld world(alignBrickBoundary(Box3(Eigen::Vector3d(0, 0, -t),
+                                           Eigen::Vector3d(c.size_m.x(), c.size_m.y(), h + t)),
+                                      h, c.resolution_m),
+                   c.resolution_m, VoxelWorld::Fill::kSolid);
   world.setExplorationBox(Box3(Eigen::Vector3d::Zero(), c.size_m));
   for (const Box2& b : spaces) {
     world.fillBox(Box3(Eigen::Vector3d(b.min().x(), b.min().y(), 0.0),
@@ -592,8 +594,9 @@ VoxelWorld generateIndoor(const IndoorConfig& c) {
   world.name = "indoor";
   world.sketch_band = {1.0, 1.8};
   const Box2& first = spaces[static_cast<size_t>(corridor_ids.front())];
-  world.start_poses = {{Eigen::Vector3d(first.center().x(), first.center().y(), std::min(1.2, 0.5 * h)),
-                        dir0 * 0.5 * M_PI}};
+  world.start_poses = {
+      {Eigen::Vector3d(first.center().x(), first.center().y(), std::min(1.2, 0.5 * h)),
+       dir0 * 0.5 * M_PI}};
   world.validateStartPoses(c.start_clearance_m);
   return world;
 }
@@ -615,7 +618,8 @@ VoxelWorld generateWorld(WorldKind kind, WorldSize size, uint64_t seed, double r
     }
     case WorldKind::kSimpleCave:
     case WorldKind::kSubtCave: {
-      CaveConfig c = kind == WorldKind::kSimpleCave ? CaveConfig::simple(size) : CaveConfig::subt(size);
+      CaveConfig c =
+          kind == WorldKind::kSimpleCave ? CaveConfig::simple(size) : CaveConfig::subt(size);
       c.seed = seed;
       c.resolution_m = resolution_m;
       VoxelWorld w = generateCave(c);

@@ -3,11 +3,11 @@
 
 #include <tinyxml2.h>
 
-#include <algorithm>
-#include <assimp/Importer.hpp>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <algorithm>
+#include <assimp/Importer.hpp>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -103,7 +103,8 @@ class SdfReader {
     for (const auto* world = root->FirstChildElement("world"); world;
          world = world->NextSiblingElement("world")) {
       if (cfg_.use_state_poses) readState(world);
-      for (const auto* m = world->FirstChildElement("model"); m; m = m->NextSiblingElement("model")) {
+      for (const auto* m = world->FirstChildElement("model"); m;
+           m = m->NextSiblingElement("model")) {
         readModel(m, Eigen::Isometry3d::Identity(), "");
       }
     }
@@ -130,12 +131,14 @@ class SdfReader {
     return poseFromXyzRpy(v);
   }
 
-  void parseNumbers(const tinyxml2::XMLElement* e, double* out, int n, const std::string& what) const {
+  void parseNumbers(const tinyxml2::XMLElement* e, double* out, int n,
+                    const std::string& what) const {
     std::istringstream in(e->GetText() ? e->GetText() : "");
     for (int i = 0; i < n; ++i) {
       if (!(in >> out[i]) || !std::isfinite(out[i])) {
         throw std::runtime_error(where(e) + ": <" + what + "> needs " + std::to_string(n) +
-                                 " finite numbers, got '" + (e->GetText() ? e->GetText() : "") + "'");
+                                 " finite numbers, got '" + (e->GetText() ? e->GetText() : "") +
+                                 "'");
       }
     }
     std::string rest;
@@ -147,14 +150,16 @@ class SdfReader {
 
   double number(const tinyxml2::XMLElement* parent, const char* key) const {
     const tinyxml2::XMLElement* e = parent->FirstChildElement(key);
-    if (!e) throw std::runtime_error(where(parent) + ": <" + parent->Name() + "> lacks <" + key + ">");
+    if (!e)
+      throw std::runtime_error(where(parent) + ": <" + parent->Name() + "> lacks <" + key + ">");
     double v = 0.0;
     parseNumbers(e, &v, 1, key);
     return v;
   }
 
   void readState(const tinyxml2::XMLElement* world) {
-    for (const auto* st = world->FirstChildElement("state"); st; st = st->NextSiblingElement("state")) {
+    for (const auto* st = world->FirstChildElement("state"); st;
+         st = st->NextSiblingElement("state")) {
       for (const auto* m = st->FirstChildElement("model"); m; m = m->NextSiblingElement("model")) {
         const char* name = m->Attribute("name");
         if (!name) continue;
@@ -186,7 +191,8 @@ class SdfReader {
         if (g) readGeometry(g, T_link * pose(c));
       }
     }
-    for (const auto* sub = m->FirstChildElement("model"); sub; sub = sub->NextSiblingElement("model")) {
+    for (const auto* sub = m->FirstChildElement("model"); sub;
+         sub = sub->NextSiblingElement("model")) {
       readModel(sub, T_model, name + "::");
     }
   }
@@ -209,7 +215,8 @@ class SdfReader {
       const auto* uri = mesh->FirstChildElement("uri");
       if (!uri || !uri->GetText()) throw std::runtime_error(where(mesh) + ": <mesh> lacks <uri>");
       Eigen::Vector3d scale = Eigen::Vector3d::Ones();
-      if (const auto* sc = mesh->FirstChildElement("scale")) parseNumbers(sc, scale.data(), 3, "scale");
+      if (const auto* sc = mesh->FirstChildElement("scale"))
+        parseNumbers(sc, scale.data(), 3, "scale");
       const std::string file = resolveUri(uri->GetText(), uri);
       const std::vector<Triangle> tris = loadMeshTriangles(file, T, scale);
       scene_.triangles.insert(scene_.triangles.end(), tris.begin(), tris.end());
@@ -267,21 +274,24 @@ void paintScene(const Scene& scene, int point_dilation_voxels, VoxelWorld& world
     const Eigen::Vector3d grown = o.half + h * R.cwiseAbs().colwise().sum().transpose();
     const Eigen::Vector3d reach = R.cwiseAbs() * o.half + Eigen::Vector3d::Constant(h);
     const Eigen::Isometry3d inv = o.T.inverse();
-    forVoxels(Box3(o.T.translation() - reach, o.T.translation() + reach), [&](const Eigen::Vector3d& c) {
-      const Eigen::Vector3d q = inv * c;
-      return (q.cwiseAbs().array() <= grown.array()).all();
-    });
+    forVoxels(Box3(o.T.translation() - reach, o.T.translation() + reach),
+              [&](const Eigen::Vector3d& c) {
+                const Eigen::Vector3d q = inv * c;
+                return (q.cwiseAbs().array() <= grown.array()).all();
+              });
   }
   const double voxel_radius = h * std::sqrt(3.0);
   for (const Cylinder& cy : scene.cylinders) {
-    const Eigen::Vector3d reach = cy.T.linear().cwiseAbs() *
-                                      Eigen::Vector3d(cy.radius, cy.radius, cy.half_length) +
-                                  Eigen::Vector3d::Constant(h);
+    const Eigen::Vector3d reach =
+        cy.T.linear().cwiseAbs() * Eigen::Vector3d(cy.radius, cy.radius, cy.half_length) +
+        Eigen::Vector3d::Constant(h);
     const Eigen::Isometry3d inv = cy.T.inverse();
-    forVoxels(Box3(cy.T.translation() - reach, cy.T.translation() + reach), [&](const Eigen::Vector3d& c) {
-      const Eigen::Vector3d q = inv * c;
-      return q.head<2>().norm() <= cy.radius + voxel_radius && std::abs(q.z()) <= cy.half_length + voxel_radius;
-    });
+    forVoxels(Box3(cy.T.translation() - reach, cy.T.translation() + reach),
+              [&](const Eigen::Vector3d& c) {
+                const Eigen::Vector3d q = inv * c;
+                return q.head<2>().norm() <= cy.radius + voxel_radius &&
+                       std::abs(q.z()) <= cy.half_length + voxel_radius;
+              });
   }
   for (const Sphere& s : scene.spheres) {
     const Eigen::Vector3d reach = Eigen::Vector3d::Constant(s.radius + h);
@@ -336,7 +346,8 @@ StartPose pickStart(const VoxelWorld& world, const ImportConfig& cfg) {
         stack.pop_back();
         const int x = i % nx, y = i / nx;
         ++sizes[static_cast<size_t>(id)];
-        if (x == 0 || y == 0 || x == nx - 1 || y == ny - 1) touches_border[static_cast<size_t>(id)] = 1;
+        if (x == 0 || y == 0 || x == nx - 1 || y == ny - 1)
+          touches_border[static_cast<size_t>(id)] = 1;
         const int nb[4][2] = {{x + 1, y}, {x - 1, y}, {x, y + 1}, {x, y - 1}};
         for (const auto& n : nb) {
           if (n[0] < 0 || n[1] < 0 || n[0] >= nx || n[1] >= ny) continue;
@@ -390,18 +401,22 @@ VoxelWorld buildWorld(const Scene& scene, const ImportConfig& cfg, const std::st
   const Eigen::Vector3d pad(cfg.margin_m, cfg.margin_m,
                             std::max(t, cfg.resolution_m) + cfg.resolution_m);
   Box3 grid_extent(extent.min() - pad, extent.max() + pad);
-  if (cfg.add_ceiling) grid_extent = alignBrickBoundary(grid_extent, extent.max().z(), cfg.resolution_m);
+  if (cfg.add_ceiling)
+    grid_extent = alignBrickBoundary(grid_extent, extent.max().z(), cfg.resolution_m);
   VoxelWorld world(grid_extent, cfg.resolution_m);
   world.name = name;
   world.setExplorationBox(extent);
   paintScene(scene, cfg.pcd_dilate_voxels, world);
   if (cfg.add_floor) {
-    world.fillBox(Box3(Eigen::Vector3d(world.gridBox().min().x(), world.gridBox().min().y(), extent.min().z() - t),
-                       Eigen::Vector3d(world.gridBox().max().x(), world.gridBox().max().y(), extent.min().z())),
+    world.fillBox(Box3(Eigen::Vector3d(world.gridBox().min().x(), world.gridBox().min().y(),
+                                       extent.min().z() - t),
+                       Eigen::Vector3d(world.gridBox().max().x(), world.gridBox().max().y(),
+                                       extent.min().z())),
                   true);
   }
   if (cfg.add_ceiling) {
-    world.fillBox(Box3(Eigen::Vector3d(world.gridBox().min().x(), world.gridBox().min().y(), extent.max().z()),
+    world.fillBox(Box3(Eigen::Vector3d(world.gridBox().min().x(), world.gridBox().min().y(),
+                                       extent.max().z()),
                        Eigen::Vector3d(world.gridBox().max().x(), world.gridBox().max().y(),
                                        std::max(extent.max().z() + t, world.gridBox().max().z()))),
                   true);
@@ -461,12 +476,14 @@ bool triangleOverlapsBox(const Eigen::Vector3d& centre, const Eigen::Vector3d& h
 
 std::vector<Triangle> loadMeshTriangles(const std::string& path, const Eigen::Isometry3d& T,
                                         const Eigen::Vector3d& scale) {
-  if (!fs::is_regular_file(path)) throw std::runtime_error("mesh file '" + path + "' does not exist");
+  if (!fs::is_regular_file(path))
+    throw std::runtime_error("mesh file '" + path + "' does not exist");
   Assimp::Importer importer;
   // Gazebo reads COLLADA coordinates as they are; assimp would otherwise rotate Z_UP files.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
-  const aiScene* scene = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_JoinIdenticalVertices);
+  const aiScene* scene =
+      importer.ReadFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices |
+                                  aiProcess_JoinIdenticalVertices);
   if (!scene) {
     throw std::runtime_error("cannot read mesh '" + path + "': " + importer.GetErrorString());
   }

@@ -22,9 +22,7 @@ namespace {
 constexpr uint8_t kInk = 0;
 constexpr uint8_t kPaper = 255;
 
-Eigen::Matrix2d rotation(double yaw) {
-  return Eigen::Rotation2Dd(yaw).toRotationMatrix();
-}
+Eigen::Matrix2d rotation(double yaw) { return Eigen::Rotation2Dd(yaw).toRotationMatrix(); }
 
 /// Coarse (about 1 m) free-space cells with their BFS distance from the start, for picking
 /// "topological regions" to leave out of a partial sketch.
@@ -57,7 +55,8 @@ CoarseFreeMap coarseFreeMap(const VoxelWorld& world, const std::vector<uint8_t>&
   }
   if (world.start_poses.empty()) return m;
   const Eigen::Vector3i s = world.voxelOf(world.start_poses.front().position_m);
-  const int sx = std::clamp(s.x() / m.factor, 0, m.nx - 1), sy = std::clamp(s.y() / m.factor, 0, m.ny - 1);
+  const int sx = std::clamp(s.x() / m.factor, 0, m.nx - 1),
+            sy = std::clamp(s.y() / m.factor, 0, m.ny - 1);
   std::deque<int> queue;
   if (m.free[static_cast<size_t>(m.index(sx, sy))]) {
     m.dist[static_cast<size_t>(m.index(sx, sy))] = 0;
@@ -125,7 +124,8 @@ std::vector<uint8_t> partialRemoval(const CoarseFreeMap& m, int regions, double 
       for (int dy = -2; dy <= 2; ++dy)
         for (int dx = -2; dx <= 2; ++dx) {
           const int xx = x + dx, yy = y + dy;
-          if (xx >= 0 && yy >= 0 && xx < m.nx && yy < m.ny) grown[static_cast<size_t>(m.index(xx, yy))] = 1;
+          if (xx >= 0 && yy >= 0 && xx < m.nx && yy < m.ny)
+            grown[static_cast<size_t>(m.index(xx, yy))] = 1;
         }
     }
   }
@@ -133,7 +133,8 @@ std::vector<uint8_t> partialRemoval(const CoarseFreeMap& m, int regions, double 
 }
 
 /// Least-squares 2D similarity mapping src onto dst (closed form for 2D).
-Sim2 fitSimilarity(const std::vector<Eigen::Vector2d>& src, const std::vector<Eigen::Vector2d>& dst) {
+Sim2 fitSimilarity(const std::vector<Eigen::Vector2d>& src,
+                   const std::vector<Eigen::Vector2d>& dst) {
   Eigen::Vector2d ms = Eigen::Vector2d::Zero(), md = Eigen::Vector2d::Zero();
   for (size_t i = 0; i < src.size(); ++i) {
     ms += src[i];
@@ -154,7 +155,9 @@ Sim2 fitSimilarity(const std::vector<Eigen::Vector2d>& src, const std::vector<Ei
   return Sim2(yaw, scale, t);
 }
 
-uint64_t variantSalt(SketchVariant v) { return 0xA5A5ULL + 0x1000193ULL * static_cast<uint64_t>(v); }
+uint64_t variantSalt(SketchVariant v) {
+  return 0xA5A5ULL + 0x1000193ULL * static_cast<uint64_t>(v);
+}
 
 }  // namespace
 
@@ -224,7 +227,8 @@ std::vector<Eigen::Vector2d> wallPoints(const VoxelWorld& world, const SketchBan
       for (int dy = -1; dy <= 1 && !wall; ++dy) {
         for (int dx = -1; dx <= 1 && !wall; ++dx) {
           const int xx = x + dx, yy = y + dy;
-          wall = xx >= 0 && yy >= 0 && xx < nx && yy < ny && free_cols[static_cast<size_t>(yy) * nx + xx];
+          wall = xx >= 0 && yy >= 0 && xx < nx && yy < ny &&
+                 free_cols[static_cast<size_t>(yy) * nx + xx];
         }
       }
       if (wall) out.push_back(world.voxelCenter({x, y, 0}).head<2>());
@@ -246,9 +250,9 @@ Sketch drawSketch(const VoxelWorld& world, SketchVariant variant, const SketchCo
   const std::vector<uint8_t> free_cols = world.freeColumns(sk.band.z_min_m, sk.band.z_max_m);
   std::vector<Eigen::Vector2d> walls = wallPoints(world, sk.band);
   if (walls.empty()) {
-    throw std::invalid_argument("drawSketch: world '" + world.name + "' has no walls in the band [" +
-                                std::to_string(sk.band.z_min_m) + ", " +
-                                std::to_string(sk.band.z_max_m) + "] m");
+    throw std::invalid_argument("drawSketch: world '" + world.name +
+                                "' has no walls in the band [" + std::to_string(sk.band.z_min_m) +
+                                ", " + std::to_string(sk.band.z_max_m) + "] m");
   }
   std::vector<uint8_t> keep(walls.size(), 1);
 
@@ -281,7 +285,8 @@ Sketch drawSketch(const VoxelWorld& world, SketchVariant variant, const SketchCo
     const ValueNoise thick(rng.next(), 8.0, 1);
     for (size_t i = 0; i < walls.size(); ++i) {
       const Eigen::Vector2d& p = walls[i];
-      drawn[i] = c + aniso.cwiseProduct(p - c) + amp * Eigen::Vector2d(warp_x(p.x(), p.y()), warp_y(p.x(), p.y()));
+      drawn[i] = c + aniso.cwiseProduct(p - c) +
+                 amp * Eigen::Vector2d(warp_x(p.x(), p.y()), warp_y(p.x(), p.y()));
       radius_px[i] = static_cast<float>(std::max(
           0.5, 0.5 * cfg.line_width_px * (1.0 + cfg.thickness_variation * thick(p.x(), p.y()))));
     }
@@ -302,10 +307,14 @@ Sketch drawSketch(const VoxelWorld& world, SketchVariant variant, const SketchCo
   const double longest_px_allowed = cfg.max_image_px - 2.0 * cfg.max_margin_px - 4.0;
   true_mpp = std::max(true_mpp, longest_m / std::max(longest_px_allowed, 16.0));
   const double s = true_mpp / cfg.metres_per_pixel;
-  const int left = cfg.min_margin_px + static_cast<int>(rng.index(cfg.max_margin_px - cfg.min_margin_px + 1));
-  const int right = cfg.min_margin_px + static_cast<int>(rng.index(cfg.max_margin_px - cfg.min_margin_px + 1));
-  const int bottom = cfg.min_margin_px + static_cast<int>(rng.index(cfg.max_margin_px - cfg.min_margin_px + 1));
-  const int top = cfg.min_margin_px + static_cast<int>(rng.index(cfg.max_margin_px - cfg.min_margin_px + 1));
+  const int left =
+      cfg.min_margin_px + static_cast<int>(rng.index(cfg.max_margin_px - cfg.min_margin_px + 1));
+  const int right =
+      cfg.min_margin_px + static_cast<int>(rng.index(cfg.max_margin_px - cfg.min_margin_px + 1));
+  const int bottom =
+      cfg.min_margin_px + static_cast<int>(rng.index(cfg.max_margin_px - cfg.min_margin_px + 1));
+  const int top =
+      cfg.min_margin_px + static_cast<int>(rng.index(cfg.max_margin_px - cfg.min_margin_px + 1));
   const int width = static_cast<int>(std::ceil(q_box.sizes().x() / true_mpp)) + left + right;
   const int height = static_cast<int>(std::ceil(q_box.sizes().y() / true_mpp)) + bottom + top;
   // p_sketch (frame units) = (R^T p_world) / s - offset  <=>  p_world = s R p_sketch + s R offset.
@@ -324,8 +333,10 @@ Sketch drawSketch(const VoxelWorld& world, SketchVariant variant, const SketchCo
                                             jitter_y(walls[i].x(), walls[i].y()));
     }
     const double r = radius_px[i];
-    const int u0 = static_cast<int>(std::floor(uv.x() - r)), u1 = static_cast<int>(std::floor(uv.x() + r));
-    const int v0 = static_cast<int>(std::floor(uv.y() - r)), v1 = static_cast<int>(std::floor(uv.y() + r));
+    const int u0 = static_cast<int>(std::floor(uv.x() - r)),
+              u1 = static_cast<int>(std::floor(uv.x() + r));
+    const int v0 = static_cast<int>(std::floor(uv.y() - r)),
+              v1 = static_cast<int>(std::floor(uv.y() + r));
     for (int v = std::max(v0, 0); v <= std::min(v1, height - 1); ++v) {
       for (int u = std::max(u0, 0); u <= std::min(u1, width - 1); ++u) {
         const double du = u + 0.5 - uv.x(), dv = v + 0.5 - uv.y();
@@ -383,7 +394,8 @@ std::string saveSketch(const Sketch& sk, const std::string& png_path) {
 Sketch loadSketch(const std::string& png_path) {
   Sketch sk;
   sk.image = cv::imread(png_path, cv::IMREAD_GRAYSCALE);
-  if (sk.image.empty()) throw std::runtime_error("loadSketch: cannot read image '" + png_path + "'");
+  if (sk.image.empty())
+    throw std::runtime_error("loadSketch: cannot read image '" + png_path + "'");
   const std::string yaml = sidecarPath(png_path);
   std::ifstream in(yaml);
   if (!in) throw std::runtime_error("loadSketch: cannot open sidecar '" + yaml + "'");
@@ -403,7 +415,8 @@ Sketch loadSketch(const std::string& png_path) {
   }
   auto get = [&](const std::string& key) -> const std::string& {
     const auto it = kv.find(key);
-    if (it == kv.end()) throw std::runtime_error("loadSketch: sidecar '" + yaml + "' lacks key '" + key + "'");
+    if (it == kv.end())
+      throw std::runtime_error("loadSketch: sidecar '" + yaml + "' lacks key '" + key + "'");
     return it->second;
   };
   auto number = [&](const std::string& key) {
@@ -423,24 +436,27 @@ Sketch loadSketch(const std::string& png_path) {
   sk.seed = static_cast<uint64_t>(number("seed"));
   sk.metres_per_pixel = number("metres_per_pixel");
   if (!(sk.metres_per_pixel > 0.0)) {
-    throw std::runtime_error("loadSketch: sidecar '" + yaml + "' key 'metres_per_pixel' must be > 0");
+    throw std::runtime_error("loadSketch: sidecar '" + yaml +
+                             "' key 'metres_per_pixel' must be > 0");
   }
   sk.band = {number("band_z_min_m"), number("band_z_max_m")};
-  sk.T_world_sketch = Sim2(number("yaw_rad"), number("scale"),
-                           Eigen::Vector2d(number("tx_m"), number("ty_m")), get("reflected") == "true");
+  sk.T_world_sketch =
+      Sim2(number("yaw_rad"), number("scale"), Eigen::Vector2d(number("tx_m"), number("ty_m")),
+           get("reflected") == "true");
   if (!(sk.T_world_sketch.scale > 0.0)) {
     throw std::runtime_error("loadSketch: sidecar '" + yaml + "' key 'scale' must be > 0");
   }
   if (number("width_px") != sk.image.cols || number("height_px") != sk.image.rows) {
-    throw std::runtime_error("loadSketch: sidecar '" + yaml + "' width_px/height_px do not match '" +
-                             png_path + "'");
+    throw std::runtime_error("loadSketch: sidecar '" + yaml +
+                             "' width_px/height_px do not match '" + png_path + "'");
   }
   return sk;
 }
 
 cv::Mat renderTopDown(const VoxelWorld& world, double mpp) {
   requirePositive("metres_per_pixel", mpp);
-  const std::vector<uint8_t> free_cols = world.freeColumns(world.sketch_band.z_min_m, world.sketch_band.z_max_m);
+  const std::vector<uint8_t> free_cols =
+      world.freeColumns(world.sketch_band.z_min_m, world.sketch_band.z_max_m);
   const int nx = world.dimsVoxels().x(), ny = world.dimsVoxels().y();
   const Eigen::AlignedBox3d grid = world.gridBox();
   const int w = std::max(1, static_cast<int>(std::ceil(grid.sizes().x() / mpp)));
@@ -452,7 +468,8 @@ cv::Mat renderTopDown(const VoxelWorld& world, double mpp) {
   const int reach = std::max(1, static_cast<int>(std::lround(mpp / world.resolution())));
   for (int v = 0; v < h; ++v) {
     for (int u = 0; u < w; ++u) {
-      const Eigen::Vector3d p(grid.min().x() + (u + 0.5) * mpp, grid.max().y() - (v + 0.5) * mpp, 0.0);
+      const Eigen::Vector3d p(grid.min().x() + (u + 0.5) * mpp, grid.max().y() - (v + 0.5) * mpp,
+                              0.0);
       const Eigen::Vector3i c = world.voxelOf({p.x(), p.y(), world.origin().z()});
       if (freeAt(c.x(), c.y())) {
         img.at<cv::Vec3b>(v, u) = cv::Vec3b(255, 255, 255);
@@ -460,12 +477,14 @@ cv::Mat renderTopDown(const VoxelWorld& world, double mpp) {
       }
       bool near_free = false;
       for (int dy = -reach; dy <= reach && !near_free; ++dy)
-        for (int dx = -reach; dx <= reach && !near_free; ++dx) near_free = freeAt(c.x() + dx, c.y() + dy);
+        for (int dx = -reach; dx <= reach && !near_free; ++dx)
+          near_free = freeAt(c.x() + dx, c.y() + dy);
       if (near_free) img.at<cv::Vec3b>(v, u) = cv::Vec3b(0, 0, 0);
     }
   }
   for (const StartPose& s : world.start_poses) {
-    const cv::Point2d px((s.position_m.x() - grid.min().x()) / mpp, (grid.max().y() - s.position_m.y()) / mpp);
+    const cv::Point2d px((s.position_m.x() - grid.min().x()) / mpp,
+                         (grid.max().y() - s.position_m.y()) / mpp);
     const double len = std::max(6.0, 2.0 / mpp);
     const cv::Point2d tip(px.x + len * std::cos(s.yaw_rad), px.y - len * std::sin(s.yaw_rad));
     cv::circle(img, px, std::max(3, static_cast<int>(len / 3)), cv::Scalar(0, 0, 255), -1);

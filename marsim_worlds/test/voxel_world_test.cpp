@@ -13,7 +13,8 @@ namespace {
 
 // A closed box room: interior [0,10]x[0,8]x[0,3] m free, walls 0.3 m thick all around.
 VoxelWorld boxRoom(double res) {
-  const Eigen::AlignedBox3d outer(Eigen::Vector3d(-0.3, -0.3, -0.3), Eigen::Vector3d(10.3, 8.3, 3.3));
+  const Eigen::AlignedBox3d outer(Eigen::Vector3d(-0.3, -0.3, -0.3),
+                                  Eigen::Vector3d(10.3, 8.3, 3.3));
   VoxelWorld w(outer, res, VoxelWorld::Fill::kSolid);
   w.fillBox(Eigen::AlignedBox3d(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(10, 8, 3)), false);
   w.setExplorationBox(Eigen::AlignedBox3d(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(10, 8, 3)));
@@ -36,7 +37,8 @@ TEST(VoxelWorld, EveryReturnInABoxRoomLiesOnAWall) {
                         static_cast<float>(rng.normal()));
       dirs.push_back(d.normalized());
     }
-    for (const Eigen::Vector3d& origin : {Eigen::Vector3d(5, 4, 1.5), Eigen::Vector3d(1.03, 7.21, 0.4)}) {
+    for (const Eigen::Vector3d& origin :
+         {Eigen::Vector3d(5, 4, 1.5), Eigen::Vector3d(1.03, 7.21, 0.4)}) {
       std::vector<float> ranges;
       w.castRays(origin, dirs, 40.0, &ranges);
       ASSERT_EQ(ranges.size(), dirs.size());
@@ -72,7 +74,8 @@ TEST(VoxelWorld, RaysCrossLongEmptyStretchesAndThinObstacles) {
   SeededRandom rng(3);
   for (int i = 0; i < 500; ++i) {
     const Eigen::Vector3d o(rng.uniform(65, 78), rng.uniform(3, 17), rng.uniform(3, 7));
-    const Eigen::Vector3d d = Eigen::Vector3d(1.0, rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1)).normalized();
+    const Eigen::Vector3d d =
+        Eigen::Vector3d(1.0, rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1)).normalized();
     const float r = w.castRay(o, d, 200.0);
     ASSERT_TRUE(std::isfinite(r));
     // The return lies on the face of an occupied voxel.

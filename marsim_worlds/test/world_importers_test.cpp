@@ -47,8 +47,8 @@ TEST(WorldImporters, Ed21MatchesItsGroundTruthGrid) {
   // -100, -100): nearly every wall cell of the import lies within 0.3 m of an occupied grid cell
   // (the grid's walls are offset by one or two cells here and there). The
   // grid lacks the small annex east of x = 20 m, so that part is left out.
-  const cv::Mat grid = cv::imread(efs::testing::sharedDataPath("ed21/ground_truth_grid.pgm"),
-                                  cv::IMREAD_GRAYSCALE);
+  const cv::Mat grid =
+      cv::imread(efs::testing::sharedDataPath("ed21/ground_truth_grid.pgm"), cv::IMREAD_GRAYSCALE);
   ASSERT_FALSE(grid.empty());
   int total = 0, matched = 0;
   for (const Eigen::Vector2d& p : wallPoints(w, w.sketch_band)) {
@@ -96,7 +96,8 @@ TEST(WorldImporters, PittsburghMineHasTheExpectedExtent) {
   EXPECT_LT(w.castRay(s, Eigen::Vector3d::UnitZ(), 10.0), 2.0);
   EXPECT_LT(w.castRay(s, -Eigen::Vector3d::UnitZ(), 10.0), 1.5);
   // The mesh model file alone (its own pose, no world state) gives the same size.
-  const VoxelWorld m = importSdfWorld(efs::testing::sharedDataPath("pittsburgh_mine/model.sdf"), cfg);
+  const VoxelWorld m =
+      importSdfWorld(efs::testing::sharedDataPath("pittsburgh_mine/model.sdf"), cfg);
   EXPECT_NEAR(m.bounds().sizes().x(), size.x(), 1e-6);
   EXPECT_NEAR(m.bounds().min().x(), -22.0, 0.01);
 }
@@ -127,8 +128,8 @@ TEST(WorldImporters, ObjMeshIsVoxelisedWithoutGaps) {
       const Eigen::Vector3d hit = o + d * r;
       // Every return is within a voxel diagonal of one of the room's faces.
       const double roof = 3.0 + 0.5 * hit.x() / 6.0;
-      const double dist = std::min({hit.x(), 6.0 - hit.x(), hit.y(), 4.0 - hit.y(), hit.z(),
-                                    std::abs(roof - hit.z())});
+      const double dist = std::min(
+          {hit.x(), 6.0 - hit.x(), hit.y(), 4.0 - hit.y(), hit.z(), std::abs(roof - hit.z())});
       EXPECT_LT(dist, 0.18) << "ray " << i;
     }
   }
@@ -148,7 +149,7 @@ TEST(WorldImporters, TriangleBoxOverlapIsConservativeAndExact) {
   EXPECT_TRUE(triangleOverlapsBox({0.2, 0.2, 0.0}, h, t));
   EXPECT_TRUE(triangleOverlapsBox({0.2, 0.2, 0.049}, h, t));
   EXPECT_FALSE(triangleOverlapsBox({0.2, 0.2, 0.06}, h, t));
-  EXPECT_FALSE(triangleOverlapsBox({0.6, 0.6, 0.0}, h, t));  // beyond the hypotenuse
+  EXPECT_FALSE(triangleOverlapsBox({0.6, 0.6, 0.0}, h, t));   // beyond the hypotenuse
   EXPECT_TRUE(triangleOverlapsBox({0.52, 0.52, 0.0}, h, t));  // straddles the hypotenuse
 }
 
@@ -156,8 +157,9 @@ std::string pcdHeader(const std::string& data, int n, const std::string& fields 
                       const std::string& size = "4 4 4", const std::string& type = "F F F",
                       const std::string& count = "1 1 1") {
   return "# .PCD v0.7\nVERSION 0.7\nFIELDS " + fields + "\nSIZE " + size + "\nTYPE " + type +
-         "\nCOUNT " + count + "\nWIDTH " + std::to_string(n) + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " +
-         std::to_string(n) + "\nDATA " + data + "\n";
+         "\nCOUNT " + count + "\nWIDTH " + std::to_string(n) +
+         "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + std::to_string(n) + "\nDATA " + data +
+         "\n";
 }
 
 // Points on the walls, floor and ceiling of a 10 x 8 x 3 m room, 0.1 m apart.
@@ -186,7 +188,8 @@ TEST(WorldImporters, PcdAsciiBinaryAndCompressedGiveTheSameWorld) {
   const int n = static_cast<int>(pts.size());
   std::string ascii = pcdHeader("ascii", n, "x y z intensity", "4 4 4 4", "F F F F", "1 1 1 1");
   for (const auto& p : pts) {
-    ascii += std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) + " 7\n";
+    ascii +=
+        std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) + " 7\n";
   }
   // binary with a double-precision z and a padding field between y and z
   std::string binary = pcdHeader("binary", n, "x y pad z", "4 4 2 8", "F F U F", "1 1 1 1");
@@ -194,8 +197,10 @@ TEST(WorldImporters, PcdAsciiBinaryAndCompressedGiveTheSameWorld) {
     const float x = p.x(), y = p.y();
     const uint16_t pad = 0;
     const double z = p.z();
-    binary.append(reinterpret_cast<const char*>(&x), 4).append(reinterpret_cast<const char*>(&y), 4);
-    binary.append(reinterpret_cast<const char*>(&pad), 2).append(reinterpret_cast<const char*>(&z), 8);
+    binary.append(reinterpret_cast<const char*>(&x), 4)
+        .append(reinterpret_cast<const char*>(&y), 4);
+    binary.append(reinterpret_cast<const char*>(&pad), 2)
+        .append(reinterpret_cast<const char*>(&z), 8);
   }
   // binary_compressed: field-major payload, LZF-encoded as literal runs of up to 32 bytes
   std::string raw;
@@ -237,19 +242,25 @@ TEST(WorldImporters, BadInputIsReportedWithFileAndPlace) {
   ImportConfig cfg;
   cfg.resolution_m = 0.2;
   // missing files
-  EXPECT_NE(messageOf([&] { importSdfWorld("/nonexistent/world.sdf", cfg); }).find("/nonexistent/world.sdf"),
+  EXPECT_NE(messageOf([&] {
+              importSdfWorld("/nonexistent/world.sdf", cfg);
+            }).find("/nonexistent/world.sdf"),
             std::string::npos);
   EXPECT_NE(messageOf([&] { importPcdWorld("/nonexistent/cloud.pcd", cfg); }).find("cloud.pcd"),
             std::string::npos);
-  EXPECT_NE(messageOf([&] { importMeshWorld("/nonexistent/m.dae", Eigen::Isometry3d::Identity(), cfg); })
-                .find("m.dae"),
+  EXPECT_NE(messageOf([&] {
+              importMeshWorld("/nonexistent/m.dae", Eigen::Isometry3d::Identity(), cfg);
+            }).find("m.dae"),
             std::string::npos);
   // malformed XML
-  const std::string broken = writeFile("broken.world", "<sdf version='1.6'><world><model name='a'>\n<link>");
-  EXPECT_NE(messageOf([&] { importSdfWorld(broken, cfg); }).find("broken.world"), std::string::npos);
+  const std::string broken =
+      writeFile("broken.world", "<sdf version='1.6'><world><model name='a'>\n<link>");
+  EXPECT_NE(messageOf([&] { importSdfWorld(broken, cfg); }).find("broken.world"),
+            std::string::npos);
   // wrong root
   const std::string not_sdf = writeFile("not_sdf.world", "<urdf/>");
-  EXPECT_NE(messageOf([&] { importSdfWorld(not_sdf, cfg); }).find("expected <sdf>"), std::string::npos);
+  EXPECT_NE(messageOf([&] { importSdfWorld(not_sdf, cfg); }).find("expected <sdf>"),
+            std::string::npos);
   // a bad pose names the file and line
   const std::string bad_pose = writeFile(
       "bad_pose.world",
@@ -263,7 +274,8 @@ TEST(WorldImporters, BadInputIsReportedWithFileAndPlace) {
   EXPECT_NE(messageOf([&] { importSdfWorld(empty, cfg); }).find("no geometry"), std::string::npos);
   // a mesh without triangles (only a point and a line)
   const std::string no_tris = writeFile("no_tris.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2\np 3\n");
-  const std::string tri_msg = messageOf([&] { importMeshWorld(no_tris, Eigen::Isometry3d::Identity(), cfg); });
+  const std::string tri_msg =
+      messageOf([&] { importMeshWorld(no_tris, Eigen::Isometry3d::Identity(), cfg); });
   EXPECT_NE(tri_msg.find("no_tris.obj"), std::string::npos) << tri_msg;
   // mesh URIs that do not resolve
   const std::string lost_mesh = writeFile(
@@ -274,12 +286,15 @@ TEST(WorldImporters, BadInputIsReportedWithFileAndPlace) {
   EXPECT_NE(messageOf([&] { importSdfWorld(lost_mesh, cfg); }).find("model://nowhere/gone.dae"),
             std::string::npos);
   // malformed PCDs
-  const std::string no_z = writeFile("no_z.pcd", pcdHeader("ascii", 1, "x y", "4 4", "F F", "1 1") + "1 2\n");
+  const std::string no_z =
+      writeFile("no_z.pcd", pcdHeader("ascii", 1, "x y", "4 4", "F F", "1 1") + "1 2\n");
   EXPECT_NE(messageOf([&] { loadPcdPoints(no_z); }).find("x, y or z"), std::string::npos);
   const std::string short_pcd = writeFile("short.pcd", pcdHeader("ascii", 3) + "1 2 3\n");
-  EXPECT_NE(messageOf([&] { loadPcdPoints(short_pcd); }).find("expected 3 points"), std::string::npos);
+  EXPECT_NE(messageOf([&] { loadPcdPoints(short_pcd); }).find("expected 3 points"),
+            std::string::npos);
   const std::string words = writeFile("words.pcd", pcdHeader("ascii", 1) + "1 two 3\n");
-  EXPECT_NE(messageOf([&] { loadPcdPoints(words); }).find("'two' is not a number"), std::string::npos);
+  EXPECT_NE(messageOf([&] { loadPcdPoints(words); }).find("'two' is not a number"),
+            std::string::npos);
   const std::string truncated = writeFile("truncated.pcd", pcdHeader("binary", 10) + "abc");
   EXPECT_NE(messageOf([&] { loadPcdPoints(truncated); }).find("truncated"), std::string::npos);
   const std::string not_pcd = writeFile("not_pcd.pcd", "hello world\n");
@@ -290,14 +305,17 @@ TEST(WorldImporters, StartPoseInsideAnObstacleOrOutsideIsRejected) {
   ImportConfig cfg;
   cfg.resolution_m = 0.2;
   cfg.has_start = true;
-  const std::string room = writeFile(
-      "start_room.world",
-      "<sdf version='1.6'><world name='w'><model name='m'><link name='l'>"
-      "<collision name='wall'><pose>0 0 1 0 0 0</pose><geometry><box><size>2 2 2</size></box></geometry></collision>"
-      "<collision name='far'><pose>10 10 1 0 0 0</pose><geometry><box><size>1 1 2</size></box></geometry></collision>"
-      "</link></model></world></sdf>");
+  const std::string room =
+      writeFile("start_room.world",
+                "<sdf version='1.6'><world name='w'><model name='m'><link name='l'>"
+                "<collision name='wall'><pose>0 0 1 0 0 0</pose><geometry><box><size>2 2 "
+                "2</size></box></geometry></collision>"
+                "<collision name='far'><pose>10 10 1 0 0 0</pose><geometry><box><size>1 1 "
+                "2</size></box></geometry></collision>"
+                "</link></model></world></sdf>");
   cfg.start.position_m = {0.0, 0.0, 1.0};  // inside the box
-  EXPECT_NE(messageOf([&] { importSdfWorld(room, cfg); }).find("inside an obstacle"), std::string::npos);
+  EXPECT_NE(messageOf([&] { importSdfWorld(room, cfg); }).find("inside an obstacle"),
+            std::string::npos);
   cfg.start.position_m = {50.0, 0.0, 1.0};
   EXPECT_NE(messageOf([&] { importSdfWorld(room, cfg); }).find("outside the exploration box"),
             std::string::npos);

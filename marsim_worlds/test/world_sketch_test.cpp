@@ -38,7 +38,8 @@ std::vector<Eigen::Vector2d> rayWallHits(const VoxelWorld& w, int origins, uint6
   start.z() = z;
   std::vector<Eigen::Vector3d> starts{start};
   while (static_cast<int>(starts.size()) < origins && tried++ < 100000) {
-    const Eigen::Vector3d p(rng.uniform(b.min().x(), b.max().x()), rng.uniform(b.min().y(), b.max().y()), z);
+    const Eigen::Vector3d p(rng.uniform(b.min().x(), b.max().x()),
+                            rng.uniform(b.min().y(), b.max().y()), z);
     if (!w.collides(p, 0.5)) starts.push_back(p);
   }
   for (const auto& o : starts) {
@@ -61,13 +62,15 @@ std::vector<Eigen::Vector2d> rayWallHits(const VoxelWorld& w, int origins, uint6
   return hits;
 }
 
-double inkFraction(const Sketch& sk, const std::vector<Eigen::Vector2d>& pts_world, int tolerance_px = 0) {
+double inkFraction(const Sketch& sk, const std::vector<Eigen::Vector2d>& pts_world,
+                   int tolerance_px = 0) {
   int ink = 0;
   for (const auto& p : pts_world) {
     const Eigen::Vector2d uv = sk.worldToPixel(p);
     bool hit = false;
     for (int dv = -tolerance_px; dv <= tolerance_px && !hit; ++dv)
-      for (int du = -tolerance_px; du <= tolerance_px && !hit; ++du) hit = sk.inkAt(uv + Eigen::Vector2d(du, dv));
+      for (int du = -tolerance_px; du <= tolerance_px && !hit; ++du)
+        hit = sk.inkAt(uv + Eigen::Vector2d(du, dv));
     ink += hit;
   }
   return pts_world.empty() ? 0.0 : static_cast<double>(ink) / pts_world.size();
@@ -75,7 +78,8 @@ double inkFraction(const Sketch& sk, const std::vector<Eigen::Vector2d>& pts_wor
 
 std::vector<VoxelWorld> testWorlds() {
   std::vector<VoxelWorld> worlds;
-  for (WorldKind k : {WorldKind::kGarage, WorldKind::kIndoor, WorldKind::kSimpleCave, WorldKind::kSubtCave}) {
+  for (WorldKind k :
+       {WorldKind::kGarage, WorldKind::kIndoor, WorldKind::kSimpleCave, WorldKind::kSubtCave}) {
     worlds.push_back(generateWorld(k, WorldSize::kSmall, 3, 0.15));
   }
   ImportConfig ic;
@@ -121,7 +125,8 @@ TEST(WorldSketch, VariantsDifferAsDescribed) {
   EXPECT_TRUE(partial.inkAt(partial.worldToPixel(rayWallHits(w, 1, 1).front())) ||
               partial.inkAt(partial.worldToPixel(rayWallHits(w, 1, 1)[1])));
 
-  const Sketch deformed = roundTrip(drawSketch(w, SketchVariant::kDeformed, cfg), "indoor_deformed");
+  const Sketch deformed =
+      roundTrip(drawSketch(w, SketchVariant::kDeformed, cfg), "indoor_deformed");
   const double exact = inkFraction(deformed, walls);
   const double near = inkFraction(deformed, walls, 8);
   EXPECT_LT(exact, 0.9);  // walls moved: a non-rigid warp and jitter
@@ -137,8 +142,8 @@ TEST(WorldSketch, SameSeedSameDrawing) {
   const VoxelWorld w = generateWorld(WorldKind::kSubtCave, WorldSize::kSmall, 3, 0.2);
   SketchConfig cfg;
   cfg.seed = 9;
-  for (SketchVariant v : {SketchVariant::kPrecise, SketchVariant::kPartial, SketchVariant::kDeformed,
-                          SketchVariant::kScaled}) {
+  for (SketchVariant v : {SketchVariant::kPrecise, SketchVariant::kPartial,
+                          SketchVariant::kDeformed, SketchVariant::kScaled}) {
     const Sketch a = drawSketch(w, v, cfg), b = drawSketch(w, v, cfg);
     ASSERT_EQ(a.image.size(), b.image.size());
     EXPECT_EQ(cv::norm(a.image, b.image, cv::NORM_INF), 0.0);
@@ -191,7 +196,8 @@ TEST(WorldSketch, BadSidecarAndConfigAreNamed) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("lacks key"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(loadSketch(efs::testing::testOutputDir() + "/no_such_sketch.png"), std::runtime_error);
+  EXPECT_THROW(loadSketch(efs::testing::testOutputDir() + "/no_such_sketch.png"),
+               std::runtime_error);
   SketchConfig bad;
   bad.max_true_mpp = 0.01;  // below min_true_mpp
   try {

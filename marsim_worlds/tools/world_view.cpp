@@ -51,7 +51,8 @@ int main(int argc, char** argv) {
       ImportConfig ic;
       ic.resolution_m = res;
       if (args.has("sdf")) return importSdfWorld(args.required("sdf"), ic);
-      if (args.has("mesh")) return importMeshWorld(args.required("mesh"), Eigen::Isometry3d::Identity(), ic);
+      if (args.has("mesh"))
+        return importMeshWorld(args.required("mesh"), Eigen::Isometry3d::Identity(), ic);
       if (args.has("pcd")) return importPcdWorld(args.required("pcd"), ic);
       const WorldKind kind = parseWorldKind(args.str("kind", "garage"));
       const std::string size = args.str("size", "small");
@@ -65,13 +66,14 @@ int main(int argc, char** argv) {
                 world.name.c_str(), size.x(), size.y(), size.z(), res, build_s,
                 world.memoryBytes() / 1e6);
 
-    const double view_mpp = args.number("view-mpp", std::max(0.1, size.head<2>().maxCoeff() / 1500.0));
+    const double view_mpp =
+        args.number("view-mpp", std::max(0.1, size.head<2>().maxCoeff() / 1500.0));
     const cv::Mat top = renderTopDown(world, view_mpp);
     SketchConfig sc;
     sc.seed = static_cast<uint64_t>(args.integer("sketch-seed", 1));
     std::vector<cv::Mat> panels{top};
-    for (SketchVariant v : {SketchVariant::kPrecise, SketchVariant::kPartial, SketchVariant::kDeformed,
-                            SketchVariant::kScaled}) {
+    for (SketchVariant v : {SketchVariant::kPrecise, SketchVariant::kPartial,
+                            SketchVariant::kDeformed, SketchVariant::kScaled}) {
       const Sketch sk = drawSketch(world, v, sc);
       const std::string png = out_dir + "/" + world.name + "_" + sketchVariantName(v) + ".png";
       saveSketch(sk, png);

@@ -35,19 +35,19 @@ struct CaveConfig {
   Eigen::Vector3d size_m{2024.0, 330.0, 41.0};
   double resolution_m = 0.15;
   uint64_t seed = 1;
-  double tunnel_radius_m = 3.0;        // mean horizontal radius
-  double radius_variation = 0.3;       // relative, node to node
-  double vertical_squash = 1.25;       // > 1: tunnels lower than wide
-  double wall_roughness_m = 0.5;       // amplitude of the wall noise
+  double tunnel_radius_m = 3.0;   // mean horizontal radius
+  double radius_variation = 0.3;  // relative, node to node
+  double vertical_squash = 1.25;  // > 1: tunnels lower than wide
+  double wall_roughness_m = 0.5;  // amplitude of the wall noise
   double roughness_wavelength_m = 3.0;
   double segment_length_m = 8.0;
-  double max_turn_rad = 0.45;          // heading change per segment
-  double max_slope = 0.12;             // |dz/ds| along a tunnel
-  double trunk_heading_pull = 0.15;    // 0..1: how strongly the trunk keeps running along +x
-  double branch_probability = 0.2;     // per segment
+  double max_turn_rad = 0.45;        // heading change per segment
+  double max_slope = 0.12;           // |dz/ds| along a tunnel
+  double trunk_heading_pull = 0.15;  // 0..1: how strongly the trunk keeps running along +x
+  double branch_probability = 0.2;   // per segment
   double min_branch_length_m = 20.0;
   double max_branch_length_m = 250.0;
-  double total_length_m = 6000.0;      // tunnel length budget
+  double total_length_m = 6000.0;  // tunnel length budget
   double start_clearance_m = 1.0;
 
   static CaveConfig subt(WorldSize size);
@@ -60,14 +60,14 @@ struct GarageConfig {
   double resolution_m = 0.15;
   uint64_t seed = 1;
   double wall_thickness_m = 0.3;
-  double bay_width_m = 2.5;            // along the aisle
+  double bay_width_m = 2.5;  // along the aisle
   double bay_depth_m = 5.0;
   double aisle_width_m = 6.5;
   double pillar_size_m = 0.6;
   int bays_per_pillar = 3;
-  double cross_aisle_spacing_m = 48.0; // a bay-free crossing every so often
+  double cross_aisle_spacing_m = 48.0;  // a bay-free crossing every so often
   double car_probability = 0.6;
-  int service_cores = 2;               // stair/elevator blocks
+  int service_cores = 2;  // stair/elevator blocks
   double start_clearance_m = 1.0;
 
   static GarageConfig preset(WorldSize size);
@@ -83,11 +83,11 @@ struct IndoorConfig {
   double min_corridor_segment_m = 8.0;
   double max_corridor_segment_m = 30.0;
   double corridor_branch_probability = 0.35;
-  double corridor_length_m = 420.0;    // budget for the corridor tree
+  double corridor_length_m = 420.0;  // budget for the corridor tree
   double min_room_m = 4.0;
   double max_room_m = 13.0;
   int room_attempts = 1500;
-  double suite_probability = 0.3;      // a room opens off another room rather than a corridor
+  double suite_probability = 0.3;  // a room opens off another room rather than a corridor
   double door_width_m = 1.0;
   double door_height_m = 2.1;
   double start_clearance_m = 1.0;

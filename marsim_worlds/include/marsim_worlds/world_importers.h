@@ -35,12 +35,12 @@ struct ImportConfig {
   bool add_floor = true;
   bool add_ceiling = true;
   double slab_thickness_m = 0.3;
-  double margin_m = 1.0;            // free border around the geometry (x, y)
+  double margin_m = 1.0;  // free border around the geometry (x, y)
   double start_clearance_m = 0.8;
-  double start_height_m = 1.2;      // above the floor, for the picked start
-  bool has_start = false;           // use `start` instead of picking one
+  double start_height_m = 1.2;  // above the floor, for the picked start
+  bool has_start = false;       // use `start` instead of picking one
   StartPose start;
-  int pcd_dilate_voxels = 1;        // closes gaps between the points of a cloud
+  int pcd_dilate_voxels = 1;  // closes gaps between the points of a cloud
   void validate() const;
 };
 

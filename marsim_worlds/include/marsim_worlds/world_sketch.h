@@ -42,12 +42,12 @@ SketchVariant parseSketchVariant(const std::string& name);
 
 struct SketchConfig {
   uint64_t seed = 1;
-  double metres_per_pixel = 0.1;      // the sketch frame's stated unit (written to the sidecar)
-  double min_true_mpp = 0.1;          // true drawing resolution, drawn uniformly in this range,
-  double max_true_mpp = 0.2;          //   raised if the image would exceed max_image_px
-  int max_image_px = 12000;           // longest image side
+  double metres_per_pixel = 0.1;  // the sketch frame's stated unit (written to the sidecar)
+  double min_true_mpp = 0.1;      // true drawing resolution, drawn uniformly in this range,
+  double max_true_mpp = 0.2;      //   raised if the image would exceed max_image_px
+  int max_image_px = 12000;       // longest image side
   double line_width_px = 2.0;
-  int min_margin_px = 10;             // random white border on each side
+  int min_margin_px = 10;  // random white border on each side
   int max_margin_px = 80;
   // partial: topological regions (geodesic balls of the free space) whose walls are left out
   int partial_regions = 2;
@@ -55,10 +55,10 @@ struct SketchConfig {
   // deformed
   double deform_amplitude_fraction = 0.02;  // smooth warp amplitude / world diagonal
   double deform_max_m = 4.0;
-  double anisotropy = 0.08;           // x/y scale differ by up to +-this (area preserved)
-  double jitter_px = 0.7;             // hand tremor amplitude
-  double thickness_variation = 0.5;   // line width varies by up to +-this fraction
-  double scaled_factor = 2.0;         // the scaled variant is drawn this much larger
+  double anisotropy = 0.08;          // x/y scale differ by up to +-this (area preserved)
+  double jitter_px = 0.7;            // hand tremor amplitude
+  double thickness_variation = 0.5;  // line width varies by up to +-this fraction
+  double scaled_factor = 2.0;        // the scaled variant is drawn this much larger
 
   void validate() const;
 };
