@@ -1,6 +1,7 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include "prior_guided_planner/observation_map.h"
 
+#include <algorithm>
 #include <bitset>
 #include <cmath>
 
@@ -117,7 +118,11 @@ ObservationUpdateStats ObservationMap::insertScan(const Eigen::Vector3d& origin,
     const VoxelKey k = key(p);
     auto [it, inserted] = cells_.try_emplace(k);
     SurfaceCell& c = it->second;
-    if (inserted) fresh.push_back(k);
+    if (inserted) {
+      fresh.push_back(k);
+      uint8_t& col = columns_[{k.x, k.y, 0}];
+      if (col < 1) col = 1;
+    }
     ++c.hits;
     if (c.well_observed) continue;
     const double r = std::sqrt(r2);
@@ -126,6 +131,7 @@ ObservationUpdateStats ObservationMap::insertScan(const Eigen::Vector3d& origin,
     if (isWellObservedRule(config_, c.min_distance_m, c.view_direction_bins)) {
       c.well_observed = true;
       ++num_well_;
+      columns_[{k.x, k.y, 0}] = 2;
       became_well.push_back(k);
     }
   }
@@ -181,10 +187,33 @@ void ObservationMap::countCellsNear(const Eigen::Vector3d& p, double radius_m, s
   if (well) *well = n_well;
 }
 
+int ObservationMap::bestLevelNear2d(const Eigen::Vector2d& c, double radius_m) const {
+  const double res = config_.resolution_m;
+  const int32_t x0 = static_cast<int32_t>(std::floor((c.x() - radius_m) / res));
+  const int32_t x1 = static_cast<int32_t>(std::floor((c.x() + radius_m) / res));
+  const int32_t y0 = static_cast<int32_t>(std::floor((c.y() - radius_m) / res));
+  const int32_t y1 = static_cast<int32_t>(std::floor((c.y() + radius_m) / res));
+  const double r2 = radius_m * radius_m;
+  int best = 0;
+  for (int32_t y = y0; y <= y1; ++y) {
+    for (int32_t x = x0; x <= x1; ++x) {
+      const double dx = (x + 0.5) * res - c.x(), dy = (y + 0.5) * res - c.y();
+      if (dx * dx + dy * dy > r2) continue;
+      auto it = columns_.find({x, y, 0});
+      if (it == columns_.end()) continue;
+      best = std::max<int>(best, it->second);
+      if (best == 2) return 2;
+    }
+  }
+  return best;
+}
+
 size_t ObservationMap::memoryBytes() const {
   const size_t node = sizeof(VoxelKey) + sizeof(SurfaceCell) + sizeof(void*) + sizeof(size_t);
   const size_t set_node = sizeof(VoxelKey) + sizeof(void*) + sizeof(size_t);
+  const size_t col_node = sizeof(VoxelKey) + 8 + sizeof(void*) + sizeof(size_t);
   return cells_.size() * node + cells_.bucket_count() * sizeof(void*) +
+         columns_.size() * col_node + columns_.bucket_count() * sizeof(void*) +
          frontier_cells_.size() * set_node + frontier_cells_.bucket_count() * sizeof(void*);
 }
 

@@ -152,3 +152,44 @@ TEST(PathLength, ConfigErrorsNameTheKey) {
 
 }  // namespace
 }  // namespace efs::planner
+
+#include "prior_guided_planner/observation_map_inputs.h"
+
+namespace efs::planner {
+namespace {
+
+TEST(PlannerInputs, PathLengthFnAndObservationQueryFollowTheMaps) {
+  Scene s;
+  s.room = {Eigen::Vector3d(-8, -8, -0.05), Eigen::Vector3d(8, 8, 5)};
+  s.solids = testing::hollowBox(Eigen::Vector3d(1, 1, -0.05), Eigen::Vector3d(4, 4, 3), 0.3);
+  OccupancyMap occ;
+  ObservationMap obs;
+  for (const Eigen::Vector3d& o : {Eigen::Vector3d(-3, -3, 2), Eigen::Vector3d(2.5, 2.5, 1.5)}) {
+    const auto pts = s.scanSphere(o, 1.0);
+    occ.insertScan(o, pts);
+    obs.insertScan(o, pts);
+  }
+  PathLengthCache cache(occ);
+  std::vector<PlanViewpoint> vps(2);
+  vps[0].id = 10;
+  vps[0].position_world_m = Eigen::Vector3d(-1, -3, 2);
+  vps[1].id = 11;
+  vps[1].position_world_m = Eigen::Vector3d(2.5, 2.5, 1.5);  // sealed in the box
+  const Eigen::Vector3d robot(-3, -3, 2);
+  const PathLengthFn L = makePathLengthFn(cache, robot, vps);
+  EXPECT_DOUBLE_EQ(L(kRobotNode, 0), 2.0);
+  EXPECT_DOUBLE_EQ(L(0, kRobotNode), 2.0);
+  EXPECT_EQ(L(kRobotNode, 1), kUnreachable);
+  EXPECT_EQ(L(0, 1), kUnreachable);
+  EXPECT_EQ(L(1, 1), 0.0);
+  EXPECT_THROW(L(0, 5), std::out_of_range);
+
+  const ObservationQuery q = makeObservationQuery(obs);
+  EXPECT_EQ(q(Eigen::Vector2d(-3, -3), 1.0), ObservationLevel::kWellObserved);  // floor below
+  EXPECT_EQ(q(Eigen::Vector2d(30, 30), 1.0), ObservationLevel::kNone);
+  // The far corner (7.5, -7.5) was seen from 10+ m only, from one direction.
+  EXPECT_EQ(q(Eigen::Vector2d(7.7, -7.7), 0.3), ObservationLevel::kPoorlyObserved);
+}
+
+}  // namespace
+}  // namespace efs::planner

@@ -96,6 +96,11 @@ class ObservationMap {
   void countCellsNear(const Eigen::Vector3d& p_world_m, double radius_m, size_t* all,
                       size_t* well_observed) const;
 
+  /// Best level in the vertical columns within `radius_m` (horizontal) of `center_xy`:
+  /// 0 nothing seen, 1 poorly observed only, 2 some well observed cell. For guidepoint states,
+  /// which live in the sketch's 2D plane.
+  int bestLevelNear2d(const Eigen::Vector2d& center_xy_world_m, double radius_m) const;
+
   size_t memoryBytes() const;
 
   /// The rule in one place, exposed for tests and tuning.
@@ -112,6 +117,8 @@ class ObservationMap {
   std::unordered_map<VoxelKey, SurfaceCell, VoxelKeyHash> cells_;
   std::unordered_set<VoxelKey, VoxelKeyHash> frontier_cells_;
   std::unordered_set<VoxelKey, VoxelKeyHash> frontier_changes_;
+  /// Per vertical column (key with z = 0): best level of its cells (1 poor, 2 well).
+  std::unordered_map<VoxelKey, uint8_t, VoxelKeyHash> columns_;
   size_t num_well_ = 0;
 };
 
