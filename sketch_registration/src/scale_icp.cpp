@@ -30,6 +30,7 @@ void ScaleIcpConfig::validate() const {
   requireInRange("sketch_margin_m", sketch_margin_m, 0.0, 1e6);
   requireInRange("min_points", min_points, 1, 1000000);
   requireInRange("min_inside_ratio", min_inside_ratio, 0.0, 1.0);
+  requireInRange("iteration_points", iteration_points, 0, 10000000);
   requireInRange("reverse_range_m", reverse_range_m, 0.0, 1e4);
   requireInRange("coarse_yaw_steps", coarse_yaw_steps, 0, 100);
   requireInRange("coarse_yaw_step_rad", coarse_yaw_step_rad, 0.0, M_PI);
@@ -90,6 +91,14 @@ Sim2 ScaleIcp::coarseSearch(const Sim2& T0, const Points2d& observed,
   }
   centroid /= static_cast<double>(n);
   const double cap = config_.coarse_truncation_m;
+  Points2d visible0;
+  if (reverse && reverse->tree && reverse->tree->size() > 0 && config_.reverse_range_m > 0.0) {
+    const Points2d all = visibleSketch(T0, reverse->robot_world_m);
+    const double vstep = std::max(1.0, static_cast<double>(all.size()) / static_cast<double>(n));
+    for (double k = 0; k < static_cast<double>(all.size()); k += vstep) {
+      visible0.push_back(all[static_cast<size_t>(k)]);
+    }
+  }
   auto cost = [&](const Sim2& T) {
     const Sim2 inv = T.inverse();
     double sum = 0.0;
@@ -103,19 +112,14 @@ Sim2 ScaleIcp::coarseSearch(const Sim2& T0, const Points2d& observed,
     }
     double cost = sum / static_cast<double>(sample.size());
     // One-sided distances favour a smaller scale (denser sketch walls are always near); the
-    // visible-sketch -> observation side penalises walls the LiDAR did not see.
-    if (reverse && reverse->tree && reverse->tree->size() > 0 && config_.reverse_range_m > 0.0) {
-      const Points2d visible = visibleSketch(T, reverse->robot_world_m);
-      if (!visible.empty()) {
-        const double rstep = std::max(1.0, static_cast<double>(visible.size()) / sample.size());
-        double rsum = 0.0;
-        size_t rn = 0;
-        for (double k = 0; k < static_cast<double>(visible.size()); k += rstep, ++rn) {
-          const Eigen::Vector2d tc = T.apply(visible[static_cast<size_t>(k)]);
-          rsum += std::min(cap, std::sqrt(reverse->tree->nearest(tc).second));
-        }
-        cost += rsum / static_cast<double>(rn);
+    // visible-sketch -> observation side penalises walls the LiDAR did not see. Visibility is
+    // taken once at T0: the grid moves walls by metres, not what is in view.
+    if (!visible0.empty()) {
+      double rsum = 0.0;
+      for (const auto& c : visible0) {
+        rsum += std::min(cap, std::sqrt(reverse->tree->nearest(T.apply(c)).second));
       }
+      cost += rsum / static_cast<double>(visible0.size());
     }
     return cost;
   };
@@ -211,13 +215,21 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
   double max_corr = start_correspondence_m > 0.0
                         ? std::max(start_correspondence_m, config_.min_correspondence_m)
                         : config_.max_correspondence_m;
+  // Iterate on an even subset; the final fitness uses every point.
+  Points2d subset;
+  const Points2d* iter_points = &observed;
+  if (config_.iteration_points > 0 && observed.size() > static_cast<size_t>(config_.iteration_points)) {
+    const double st = static_cast<double>(observed.size()) / config_.iteration_points;
+    for (int i = 0; i < config_.iteration_points; ++i) subset.push_back(observed[static_cast<size_t>(i * st)]);
+    iter_points = &subset;
+  }
   std::vector<Pair> pairs;
-  pairs.reserve(observed.size());
+  pairs.reserve(iter_points->size());
   int it = 0;
   for (; it < config_.max_iterations; ++it) {
     const Sim2 inv = T.inverse();
     pairs.clear();
-    for (const auto& p : observed) {
+    for (const auto& p : *iter_points) {
       const Eigen::Vector2d q = inv.apply(p);
       if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
       const auto nn = tree_.nearest(q);
@@ -269,6 +281,11 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
     // early freezes a far-off start in a local minimum.
     if (moved < config_.anneal_when_moved_m) {
       if (max_corr <= config_.min_correspondence_m && moved < config_.convergence_m) {
+        if (iter_points != &observed) {
+          // Converged on the subset: polish on every point.
+          iter_points = &observed;
+          continue;
+        }
         ++it;
         break;
       }

@@ -32,6 +32,8 @@ void SketchRegistrationConfig::validate() const {
   requireInRange("confidence_tau", confidence_tau, 0.0, 1e3);
   requirePositive("max_speed_mps", max_speed_mps);
   requireInRange("max_icp_inputs", max_icp_inputs, 1, 100000);
+  requireInRange("icp_retry_frames", icp_retry_frames, 0, 100000);
+  requireInRange("mirror_min_age_frames", mirror_min_age_frames, 1, 100000);
   requireInRange("max_hypotheses", max_hypotheses, 1, 100000);
   requirePositive("merge_distance", merge_distance);
   sketchDescriptorConfig(*this).validate();
@@ -99,6 +101,7 @@ SketchRegistration::SketchRegistration(const Config& config, Points2d sketch_bou
 void SketchRegistration::reset() {
   verifier_.reset();
   live_.clear();
+  rejected_.clear();
   result_ = RegistrationResult{};
   has_last_ = false;
 }
@@ -206,7 +209,8 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
     result_.status = RegistrationStatus::kOk;
     os << result_.hypotheses.size() << " hypotheses; best F = " << result_.hypotheses[0].fitness_m
        << " m" << (result_.best_is_mirrored ? " (mirror-image sketch)" : "");
-  } else if (!result_.mirrored_hypotheses.empty()) {
+  } else if (!result_.mirrored_hypotheses.empty() &&
+             result_.mirrored_hypotheses.front().age_frames >= config_.mirror_min_age_frames) {
     result_.status = RegistrationStatus::kMirroredSketch;
     os << "only mirror-image transforms fit the sketch (best F = "
        << result_.mirrored_hypotheses[0].fitness_m << " m): the sketch looks mirrored";
@@ -246,6 +250,14 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points,
         break;
       }
     }
+    // Transforms that just failed the fitness test wait a few frames for the map to grow.
+    for (const Rejected& x : rejected_) {
+      if (transformDistance(x.T, r.T_world_sketch, config_.verifier.lambda) <
+          config_.merge_distance) {
+        known = true;
+        break;
+      }
+    }
     if (known) continue;
     inputs.push_back({-1, 0, r.T_world_sketch});
     ++added;
@@ -255,13 +267,23 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points,
     int age;
     IcpResult r;
   };
+  ++frame_counter_;
+  rejected_.erase(std::remove_if(rejected_.begin(), rejected_.end(),
+                                 [&](const Rejected& x) {
+                                   return frame_counter_ - x.frame >
+                                          static_cast<size_t>(config_.icp_retry_frames);
+                                 }),
+                  rejected_.end());
   std::vector<Refined> refined;
   for (const Input& in : inputs) {
     // Live hypotheses were refined last frame: a narrow capture radius suffices.
     const IcpResult r = icp_->refine(
         in.T, icp_points, in.id >= 0 ? 1.5 * config_.icp.min_correspondence_m : 0.0, &observed);
     ++diag.icp_runs;
-    if (!r.valid || !(r.fitness_m <= config_.fitness_threshold_m)) continue;
+    if (!r.valid || !(r.fitness_m <= config_.fitness_threshold_m)) {
+      if (in.id < 0) rejected_.push_back({in.T, frame_counter_});
+      continue;
+    }
     refined.push_back({in.id, in.age, r});
   }
   std::stable_sort(refined.begin(), refined.end(), [](const Refined& a, const Refined& b) {

@@ -77,7 +77,7 @@ TEST(ScaleIcp, ConvergesFromPerturbedStart) {
     EXPECT_TRUE(r.valid) << init.toString();
     EXPECT_NEAR(angleDiff(r.T_world_sketch.yaw_rad, s.truth.yaw_rad), 0.0, deg2rad(0.5));
     EXPECT_NEAR(r.T_world_sketch.scale, s.truth.scale, 0.015);
-    EXPECT_LT(worstWallError(r.T_world_sketch, s), 0.4)
+    EXPECT_LT(worstWallError(r.T_world_sketch, s), 0.6)
         << init.toString() << " -> " << r.T_world_sketch.toString();
     EXPECT_LT(r.fitness_m, 0.1);
     EXPECT_GT(r.inlier_ratio, 0.95);

@@ -22,6 +22,7 @@ namespace efs::registration {
 
 struct ScaleIcpConfig {
   int max_iterations = 60;
+  int iteration_points = 400;         ///< observed points used while iterating (0 = all)
   double max_correspondence_m = 4.0;  ///< world, first iteration
   double min_correspondence_m = 1.0;  ///< world, annealed down to this
   double anneal_factor = 0.8;         ///< per iteration

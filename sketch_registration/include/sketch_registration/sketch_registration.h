@@ -89,7 +89,9 @@ struct SketchRegistrationConfig {
   double confidence_tau = 0.3;          ///< tau
   double max_speed_mps = 20.0;          ///< faster between frames = odometry jump
   ReflectionMode reflection = ReflectionMode::kDetect;
-  int max_icp_inputs = 12;              ///< representatives refined per frame
+  int max_icp_inputs = 8;               ///< new representatives refined per frame
+  int icp_retry_frames = 3;             ///< a rejected transform is retried after this many frames
+  int mirror_min_age_frames = 2;        ///< kMirroredSketch only once a mirror fit has persisted
   int max_hypotheses = 10;
   double merge_distance = 10.0;         ///< d_T below which refined hypotheses are one
   void validate() const;
@@ -129,6 +131,12 @@ class SketchRegistration {
   std::unique_ptr<ScaleIcp> icp_;
   RegistrationResult result_;
   std::vector<Hypothesis> live_;  ///< all refined hypotheses (both handednesses)
+  struct Rejected {
+    Sim2 T;
+    size_t frame;
+  };
+  std::vector<Rejected> rejected_;  ///< transforms that failed fitness recently (not retried yet)
+  size_t frame_counter_ = 0;
   int next_id_ = 0;
   bool has_last_ = false;
   double last_time_s_ = 0.0;
