@@ -25,6 +25,7 @@ sketch: a drawing (PNG/JPG/PGM, grey, colour or alpha) or a map_server YAML occu
   --mapping-range M      the robot's mapping range; guidepoints are spaced interval-factor x this
   --out FILE.prior       where to write the bundle
   --overlay FILE.png     where to write the picture for a person (default: OUT with .png)
+  --summary FILE.json    also write the summary below as JSON
   --kind K               auto | drawing | grid                        (default auto)
   --robot-radius M       clearance from drawn walls                   (default 0.15)
   --max-outer-gap M      widest gap in the outer wall still sealed    (default 4.0)
@@ -42,7 +43,7 @@ int main(int argc, char** argv) {
   using namespace efs::prior_map;
   try {
     const efs::CliArgs args(argc, argv,
-                            {"sketch", "scale-guess", "mapping-range", "out", "overlay", "kind",
+                            {"sketch", "scale-guess", "mapping-range", "out", "overlay", "summary", "kind",
                              "robot-radius", "max-outer-gap", "min-region-area", "spur-length",
                              "interval-factor", "prm-spacing", "prm-k", "seed"},
                             {"help"});
@@ -108,6 +109,26 @@ int main(int argc, char** argv) {
     std::printf("elapsed             %.3f s (peak memory %.1f MB)\n", build_s,
                 efs::peakRssBytes() / 1e6);
     std::printf("wrote               %s, %s\n", out_path.c_str(), overlay_path.c_str());
+    if (args.has("summary")) {
+      const std::string json_path = args.required("summary");
+      std::FILE* f = std::fopen(json_path.c_str(), "w");
+      if (!f) throw PriorMapError(json_path + ": cannot write summary");
+      std::fprintf(f,
+                   "{\n  \"sketch\": \"%s\",\n  \"kind\": \"%s\",\n  \"width_px\": %d,\n"
+                   "  \"height_px\": %d,\n  \"scale_guess_m_per_px\": %.6g,\n"
+                   "  \"mapping_range_m\": %.6g,\n  \"region_area_m2\": %.3f,\n"
+                   "  \"components\": %d,\n  \"skeleton_length_m\": %.3f,\n"
+                   "  \"skeleton_branches\": %d,\n  \"guidepoints\": %d,\n"
+                   "  \"guidepoint_interval_m\": %.3f,\n  \"prm_nodes\": %d,\n"
+                   "  \"prm_edges\": %d,\n  \"unreachable_pairs\": %d,\n"
+                   "  \"elapsed_s\": %.4f,\n  \"bundle\": \"%s\",\n  \"overlay\": \"%s\"\n}\n",
+                   sketch_path.c_str(), toString(sketch.kind), sketch.frame.width_px,
+                   sketch.frame.height_px, sketch.frame.m_per_px, config.guidepoints.mapping_range_m,
+                   s.region_area_m2, s.components, s.skeleton_length_m, s.skeleton_branches,
+                   s.guidepoints, config.guidepoints.intervalM(), s.prm_nodes, s.prm_edges,
+                   s.unreachable_pairs, build_s, out_path.c_str(), overlay_path.c_str());
+      std::fclose(f);
+    }
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "prior_map_build: error: %s\n", e.what());
