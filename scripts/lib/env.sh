@@ -10,6 +10,9 @@ export EFS_ROOT EFS_BUILD_DIR EFS_SHARED_DATA_DIR
 export PATH="/usr/bin:/bin:$PATH"
 export CCACHE_DIR="${CCACHE_DIR:-$HOME/.cache/ccache}"
 export CCACHE_MAXSIZE="${CCACHE_MAXSIZE:-5G}"
+# Relative paths in the cache key: a fresh clone elsewhere (CI) still hits the cache.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$EFS_ROOT}"
+export CCACHE_NOHASHDIR=1
 export EFS_JOBS="${EFS_JOBS:-$(nproc)}"
 
 efs_log() { printf '[efs] %s\n' "$*" >&2; }
