@@ -178,6 +178,7 @@ void VoxelWorld::compact() {
 
 float VoxelWorld::castRay(const Eigen::Vector3d& origin_m, const Eigen::Vector3d& dir_unit,
                           double max_range_m) const {
+  if (!origin_m.allFinite() || !dir_unit.allFinite() || !(max_range_m > 0.0)) return kNoHit;
   // Everything below is in voxel units relative to the grid origin.
   double o[3], d[3];
   for (int a = 0; a < 3; ++a) {

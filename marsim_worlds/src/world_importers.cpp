@@ -10,6 +10,7 @@
 #include <assimp/Importer.hpp>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -300,13 +301,65 @@ void paintScene(const Scene& scene, int point_dilation_voxels, VoxelWorld& world
     });
   }
   const Eigen::Vector3d half = Eigen::Vector3d::Constant(h * (1.0 + 1e-6));
+  // Triangles: walk the voxel columns along the axis the triangle faces most and test only the
+  // few voxels of each column that the triangle's plane crosses (O(area), not O(bounding box)).
+  const double res = world.resolution();
+  const Eigen::Vector3d org = world.origin();
+  const Eigen::Vector3i last = world.dimsVoxels() - Eigen::Vector3i::Ones();
   for (const Triangle& t : scene.triangles) {
     Box3 b;
     b.extend(t.a);
     b.extend(t.b);
     b.extend(t.c);
-    forVoxels(Box3(b.min() - half, b.max() + half),
-              [&](const Eigen::Vector3d& c) { return triangleOverlapsBox(c, half, t); });
+    b = Box3(b.min() - half, b.max() + half).intersection(world.gridBox());
+    if (b.isEmpty()) continue;
+    const Eigen::Vector3i lo = world.voxelOf(b.min()).cwiseMax(0);
+    const Eigen::Vector3i hi = world.voxelOf(b.max()).cwiseMin(last);
+    const Eigen::Vector3d n = (t.b - t.a).cross(t.c - t.a);
+    int k = 0;
+    n.cwiseAbs().maxCoeff(&k);
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    const double nk = n[k], d = n.dot(t.a);
+    // The triangle projected along k, with inward edge normals: a column whose (grown) footprint
+    // lies outside one edge cannot touch the triangle. Skips most columns of long diagonal ones.
+    const Eigen::Vector2d q[3] = {{t.a[i], t.a[j]}, {t.b[i], t.b[j]}, {t.c[i], t.c[j]}};
+    const double orient =
+        (q[1] - q[0]).x() * (q[2] - q[0]).y() - (q[1] - q[0]).y() * (q[2] - q[0]).x();
+    Eigen::Vector2d edge_n[3];
+    for (int e = 0; e < 3; ++e) {
+      const Eigen::Vector2d ed = q[(e + 1) % 3] - q[e];
+      edge_n[e] =
+          orient >= 0.0 ? Eigen::Vector2d(-ed.y(), ed.x()) : Eigen::Vector2d(ed.y(), -ed.x());
+    }
+    const double reach = 0.5 * res + 1e-9;
+    Eigen::Vector3i v;
+    for (v[i] = lo[i]; v[i] <= hi[i]; ++v[i]) {
+      for (v[j] = lo[j]; v[j] <= hi[j]; ++v[j]) {
+        const Eigen::Vector2d centre(org[i] + (v[i] + 0.5) * res, org[j] + (v[j] + 0.5) * res);
+        bool outside = false;
+        for (int e = 0; e < 3 && !outside && std::abs(orient) > 1e-18; ++e) {
+          outside = edge_n[e].dot(centre - q[e]) + reach * edge_n[e].cwiseAbs().sum() < 0.0;
+        }
+        if (outside) continue;
+        int k0 = lo[k], k1 = hi[k];
+        if (std::abs(nk) > 1e-12) {
+          // The plane's k-range over this column's footprint (corners of the cell rectangle).
+          const double pi0 = org[i] + v[i] * res, pj0 = org[j] + v[j] * res;
+          double kmin = std::numeric_limits<double>::infinity(), kmax = -kmin;
+          for (int c = 0; c < 4; ++c) {
+            const double pi = pi0 + (c & 1 ? res : 0.0), pj = pj0 + (c & 2 ? res : 0.0);
+            const double pk = (d - n[i] * pi - n[j] * pj) / nk;
+            kmin = std::min(kmin, pk);
+            kmax = std::max(kmax, pk);
+          }
+          k0 = std::max(k0, static_cast<int>(std::floor((kmin - org[k]) / res)) - 1);
+          k1 = std::min(k1, static_cast<int>(std::floor((kmax - org[k]) / res)) + 1);
+        }
+        for (v[k] = k0; v[k] <= k1; ++v[k]) {
+          if (triangleOverlapsBox(world.voxelCenter(v), half, t)) world.setVoxel(v, true);
+        }
+      }
+    }
   }
   // Points mark their voxel; dilation closes the gaps between a cloud's samples.
   const int d = point_dilation_voxels;

@@ -60,6 +60,10 @@ TEST(VoxelWorld, AxisAlignedRayHitsTheExactWallDistance) {
   EXPECT_NEAR(w.castRay({5, 4, 1.5}, {0, 0, 1}, 40.0), 1.5, 1e-4);
   // Beyond the maximum range there is no return.
   EXPECT_EQ(w.castRay({5, 4, 1.5}, {1, 0, 0}, 4.9), WorldGeometry::kNoHit);
+  // Degenerate input is a miss, never a hang or a crash.
+  EXPECT_EQ(w.castRay({5, 4, 1.5}, {0, 0, 0}, 40.0), WorldGeometry::kNoHit);
+  EXPECT_EQ(w.castRay({5, 4, 1.5}, {std::nan(""), 0, 0}, 40.0), WorldGeometry::kNoHit);
+  EXPECT_EQ(w.castRay({5, 4, 1.5}, {1, 0, 0}, std::nan("")), WorldGeometry::kNoHit);
 }
 
 TEST(VoxelWorld, RaysCrossLongEmptyStretchesAndThinObstacles) {
