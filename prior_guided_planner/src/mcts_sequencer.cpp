@@ -56,11 +56,12 @@ struct Rollout {
   double length = kUnreachable;
 };
 
-// The root rollout has no warm start: it gets a full stand-alone solve.
+// The root rollout has no warm start: it starts from the assignment relaxation and gets a
+// larger kick budget (its tour seeds every later rollout through the warm starts).
 AtspConfig rootConfig(const MctsConfig& c) {
-  AtspConfig a;
-  a.seed = c.seed;
-  a.exact_max_nodes = c.rollout.exact_max_nodes;
+  AtspConfig a = c.rollout;
+  a.assignment_start = true;
+  a.kicks_per_node = std::max(c.rollout.kicks_per_node, 5.0);
   return a;
 }
 

@@ -35,7 +35,7 @@ struct MctsConfig {
   uint64_t seed = 1;
 
   MctsConfig() {
-    rollout.kicks_per_node = 1.5;
+    rollout.kicks_per_node = 0.5;
     rollout.min_kicks = 10;
   }
   void validate() const;
