@@ -44,8 +44,10 @@ int main(int argc, char** argv) {
   uint64_t seed = 3;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
-    if (k == "--frames") max_frames = std::atoi(argv[i + 1]);
-    else if (k == "--seed") seed = std::strtoull(argv[i + 1], nullptr, 10);
+    if (k == "--frames")
+      max_frames = std::atoi(argv[i + 1]);
+    else if (k == "--seed")
+      seed = std::strtoull(argv[i + 1], nullptr, 10);
   }
   Vector2d lo, hi;
   std::vector<syn::Box> solids;
@@ -89,9 +91,10 @@ int main(int argc, char** argv) {
     if (!r.hypotheses.empty()) {
       err = (r.hypotheses[0].T_world_sketch.apply(T_true.inverse().apply(p)) - p).norm();
     }
-    std::snprintf(line, sizeof(line), "| %5d | %7.1f | %7.1f | %6zu | %5zu | %4zu | %4zu | %-22s | %7.2f |",
-                  frames, ms, cpu_ms, local_map.size(), r.last_frame.candidates.size(),
-                  r.last_frame.icp_runs, r.hypotheses.size(), reg::toString(r.status), err);
+    std::snprintf(line, sizeof(line),
+                  "| %5d | %7.1f | %7.1f | %6zu | %5zu | %4zu | %4zu | %-22s | %7.2f |", frames, ms,
+                  cpu_ms, local_map.size(), r.last_frame.candidates.size(), r.last_frame.icp_runs,
+                  r.hypotheses.size(), reg::toString(r.status), err);
     rows.push_back(line);
   }
   std::printf("# registration_bench: synthetic garage %.0f x %.0f m, seed %llu, one core\n",
@@ -106,12 +109,13 @@ int main(int argc, char** argv) {
   std::printf("| frames | %zu |\n", frame_ms.size());
   std::printf("| per-frame addFrame median wall / CPU [ms] | %.1f / %.1f |\n",
               percentile(frame_ms, 0.5), percentile(frame_cpu_ms, 0.5));
-  std::printf("| per-frame addFrame p90 wall / CPU [ms] | %.1f / %.1f |\n", percentile(frame_ms, 0.9),
-              percentile(frame_cpu_ms, 0.9));
-  std::printf("| per-frame addFrame max wall / CPU [ms] | %.1f / %.1f |\n", percentile(frame_ms, 1.0),
-              percentile(frame_cpu_ms, 1.0));
+  std::printf("| per-frame addFrame p90 wall / CPU [ms] | %.1f / %.1f |\n",
+              percentile(frame_ms, 0.9), percentile(frame_cpu_ms, 0.9));
+  std::printf("| per-frame addFrame max wall / CPU [ms] | %.1f / %.1f |\n",
+              percentile(frame_ms, 1.0), percentile(frame_cpu_ms, 1.0));
   std::printf("| peak RSS [MB] | %.0f |\n\n", efs::peakRssBytes() / 1e6);
-  std::printf("| frame | wall ms | cpu ms | map pts | cands | icp runs | hyps | status | err_m |\n");
+  std::printf(
+      "| frame | wall ms | cpu ms | map pts | cands | icp runs | hyps | status | err_m |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& l : rows) std::printf("%s\n", l.c_str());
   return 0;

@@ -165,9 +165,9 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
   for (size_t i = 0; i < size(); ++i) {
     const GeoContext& d = descriptors_[i];
     if (!d.valid) continue;
-    bound.emplace_back(combineSimilarity(1.0, fftSimilarity(d, observed),
-                                         cvSimilarity(d, observed), w),
-                       static_cast<int>(i));
+    bound.emplace_back(
+        combineSimilarity(1.0, fftSimilarity(d, observed), cvSimilarity(d, observed), w),
+        static_cast<int>(i));
   }
   std::sort(bound.begin(), bound.end(), [](const auto& a, const auto& b) {
     return a.first > b.first || (a.first == b.first && a.second < b.second);
@@ -197,8 +197,8 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
 std::vector<Candidate> CandidateDatabase::findCandidates(const GeoContext& observed,
                                                          const RetrievalConfig& config) const {
   const size_t k = static_cast<size_t>(std::ceil(config.eta * static_cast<double>(valid_count_)));
-  const std::vector<Candidate> raw = rank(observed, std::max<size_t>(k, 1), config.weights,
-                                          config.try_reversed);
+  const std::vector<Candidate> raw =
+      rank(observed, std::max<size_t>(k, 1), config.weights, config.try_reversed);
   std::vector<Candidate> out;
   const double r = config.downsample_radius_m;
   const double r2 = r * r;

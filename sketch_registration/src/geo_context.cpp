@@ -61,7 +61,8 @@ void computeFeatures(GeoContext& d, const DescriptorConfig& config) {
     d.coarse_range_m.assign(static_cast<size_t>(n / f), 0.0f);
     for (int j = 0; j < n / f; ++j) {
       float m = 0.0f;
-      for (int k = 0; k < f; ++k) m = std::max(m, d.range_m[static_cast<size_t>(((f * j + lo + k) % n + n) % n)]);
+      for (int k = 0; k < f; ++k)
+        m = std::max(m, d.range_m[static_cast<size_t>(((f * j + lo + k) % n + n) % n)]);
       d.coarse_range_m[static_cast<size_t>(j)] = m;
     }
   }
@@ -157,7 +158,8 @@ ShiftTables::ShiftTables(const GeoContext& observed) {
   coarse_plain.resize(2 * static_cast<size_t>(n_coarse));
   coarse_reversed.resize(2 * static_cast<size_t>(n_coarse));
   for (int i = 0; i < 2 * n_coarse; ++i) {
-    coarse_plain[static_cast<size_t>(i)] = observed.coarse_range_m[static_cast<size_t>(i % n_coarse)];
+    coarse_plain[static_cast<size_t>(i)] =
+        observed.coarse_range_m[static_cast<size_t>(i % n_coarse)];
     coarse_reversed[static_cast<size_t>(i)] =
         observed.coarse_range_m[static_cast<size_t>((2 * n_coarse - i) % n_coarse)];
   }
@@ -177,15 +179,16 @@ ShiftMatch bestColumnShiftCoarseToFine(const GeoContext& prior, const ShiftTable
   std::vector<std::pair<float, int>> coarse;  // (score, orientation * nc + coarse shift)
   coarse.reserve(2 * static_cast<size_t>(nc));
   for (int c = 0; c < nc; ++c) {
-    coarse.emplace_back(static_cast<float>(inverseCosineWithSums(
-                            prior.coarse_range_m.data(), tables.coarse_plain.data() + c, nc, sca, scb)),
-                        c);
+    coarse.emplace_back(
+        static_cast<float>(inverseCosineWithSums(prior.coarse_range_m.data(),
+                                                 tables.coarse_plain.data() + c, nc, sca, scb)),
+        c);
   }
   if (try_reversed) {
     for (int m = 0; m < nc; ++m) {
       coarse.emplace_back(
-          static_cast<float>(inverseCosineWithSums(prior.coarse_range_m.data(),
-                                                   tables.coarse_reversed.data() + m, nc, sca, scb)),
+          static_cast<float>(inverseCosineWithSums(
+              prior.coarse_range_m.data(), tables.coarse_reversed.data() + m, nc, sca, scb)),
           nc + (nc - m) % nc);
     }
   }
@@ -228,8 +231,7 @@ ShiftMatch bestColumnShift(const float* prior, const ShiftTables& tables, bool t
   return best;
 }
 
-ShiftMatch bestColumnShift(const GeoContext& prior, const GeoContext& observed,
-                           bool try_reversed) {
+ShiftMatch bestColumnShift(const GeoContext& prior, const GeoContext& observed, bool try_reversed) {
   if (prior.range_m.empty() || prior.range_m.size() != observed.range_m.size()) return {};
   return bestColumnShift(prior.range_m.data(), ShiftTables(observed), try_reversed);
 }

@@ -95,8 +95,9 @@ bool MultiFrameVerifier::evaluateTrack(Track& t) const {
   if (!(sp > 1e-6)) return false;
   t.relative_residual = fit.rms_residual_m / sp;
   if (t.relative_residual > config_.max_relative_residual) return false;
-  t.fd_distance = fourierDistance(fourierDescriptor(mirrored(t.c_sketch, fit.T_world_sketch.reflected)),
-                                  fourierDescriptor(t.p_world));
+  t.fd_distance =
+      fourierDistance(fourierDescriptor(mirrored(t.c_sketch, fit.T_world_sketch.reflected)),
+                      fourierDescriptor(t.p_world));
   if (t.fd_distance > config_.fd_threshold) return false;
   t.T_world_sketch = fit.T_world_sketch;
   return true;
@@ -141,8 +142,8 @@ void MultiFrameVerifier::getPotTran(int fa, int fb, int fc) {
           if (std::abs(t.T_world_sketch.scale / s_pair - 1.0) > config_.triplet_scale_consistency) {
             continue;
           }
-          t.yaw_consistent = yawOk(a, t.T_world_sketch) + yawOk(b, t.T_world_sketch) +
-                             yawOk(c, t.T_world_sketch);
+          t.yaw_consistent =
+              yawOk(a, t.T_world_sketch) + yawOk(b, t.T_world_sketch) + yawOk(c, t.T_world_sketch);
           if (t.yaw_consistent < 2) continue;
           ++stats_.triplets_accepted;
           tracks_.push_back(t);

@@ -218,9 +218,11 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
   // Iterate on an even subset; the final fitness uses every point.
   Points2d subset;
   const Points2d* iter_points = &observed;
-  if (config_.iteration_points > 0 && observed.size() > static_cast<size_t>(config_.iteration_points)) {
+  if (config_.iteration_points > 0 &&
+      observed.size() > static_cast<size_t>(config_.iteration_points)) {
     const double st = static_cast<double>(observed.size()) / config_.iteration_points;
-    for (int i = 0; i < config_.iteration_points; ++i) subset.push_back(observed[static_cast<size_t>(i * st)]);
+    for (int i = 0; i < config_.iteration_points; ++i)
+      subset.push_back(observed[static_cast<size_t>(i * st)]);
     iter_points = &subset;
   }
   std::vector<Pair> pairs;
@@ -266,8 +268,7 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
     }
     const double s_lo = std::max(config_.scale_min, T.scale * (1.0 - config_.max_scale_step));
     const double s_hi = std::min(config_.scale_max, T.scale * (1.0 + config_.max_scale_step));
-    const Sim2Fit fit =
-        fitSim2(c, p, T.reflected, std::min(s_lo, s_hi), std::max(s_lo, s_hi), &w);
+    const Sim2Fit fit = fitSim2(c, p, T.reflected, std::min(s_lo, s_hi), std::max(s_lo, s_hi), &w);
     if (!fit.ok) break;
     // Motion of the observed centroid's preimage: one number for rotation, scale and shift.
     Eigen::Vector2d cm = Eigen::Vector2d::Zero();

@@ -10,8 +10,8 @@
 
 namespace efs::registration {
 
-Sim2Fit fitSim2(const Points2d& c_sketch, const Points2d& p_world, bool reflected,
-                double scale_min, double scale_max, const std::vector<double>* weights) {
+Sim2Fit fitSim2(const Points2d& c_sketch, const Points2d& p_world, bool reflected, double scale_min,
+                double scale_max, const std::vector<double>* weights) {
   Sim2Fit out;
   const size_t n = std::min(c_sketch.size(), p_world.size());
   if (n < 2) return out;

@@ -11,14 +11,22 @@ namespace efs::registration {
 
 const char* toString(RegistrationStatus status) {
   switch (status) {
-    case RegistrationStatus::kOk: return "ok";
-    case RegistrationStatus::kTooFewFrames: return "too_few_frames";
-    case RegistrationStatus::kNoConsistentTriplet: return "no_consistent_triplet";
-    case RegistrationStatus::kAllRejectedByFitness: return "all_rejected_by_fitness";
-    case RegistrationStatus::kNoCandidates: return "no_candidates";
-    case RegistrationStatus::kBadInput: return "bad_input";
-    case RegistrationStatus::kOdometryJump: return "odometry_jump";
-    case RegistrationStatus::kMirroredSketch: return "mirrored_sketch";
+    case RegistrationStatus::kOk:
+      return "ok";
+    case RegistrationStatus::kTooFewFrames:
+      return "too_few_frames";
+    case RegistrationStatus::kNoConsistentTriplet:
+      return "no_consistent_triplet";
+    case RegistrationStatus::kAllRejectedByFitness:
+      return "all_rejected_by_fitness";
+    case RegistrationStatus::kNoCandidates:
+      return "no_candidates";
+    case RegistrationStatus::kBadInput:
+      return "bad_input";
+    case RegistrationStatus::kOdometryJump:
+      return "odometry_jump";
+    case RegistrationStatus::kMirroredSketch:
+      return "mirrored_sketch";
   }
   return "unknown";
 }
@@ -89,8 +97,7 @@ SketchRegistrationConfig validated(const SketchRegistrationConfig& c) {
 
 SketchRegistration::SketchRegistration(const Config& config, Points2d sketch_boundary_m,
                                        Points2d candidates_m)
-    : config_(validated(config)),
-      verifier_(verifierConfig(config_)) {
+    : config_(validated(config)), verifier_(verifierConfig(config_)) {
   for (const auto& p : sketch_boundary_m) {
     if (p.allFinite()) sketch_.push_back(p);
   }
@@ -162,7 +169,8 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
   if (!diag.descriptor.valid) {
     std::ostringstream os;
     os << "local map unusable: " << desc_map.num_input << " points, " << desc_map.num_non_finite
-       << " non-finite, " << desc_map.num_in_band << " in the height band within range; frame ignored";
+       << " non-finite, " << desc_map.num_in_band
+       << " in the height band within range; frame ignored";
     return fail(RegistrationStatus::kBadInput, os.str());
   }
 
@@ -172,9 +180,8 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
   diag.representatives = verifier_.representatives().size();
   result_.frames_used = verifier_.numFrames();
 
-  const ProjectedMap icp_map =
-      projectLocalMap(local_map_world_m, robot_world_m, oc.slice_min_dz_m, oc.slice_max_dz_m,
-                      oc.icp_range_m, oc.icp_voxel_m);
+  const ProjectedMap icp_map = projectLocalMap(local_map_world_m, robot_world_m, oc.slice_min_dz_m,
+                                               oc.slice_max_dz_m, oc.icp_range_m, oc.icp_voxel_m);
   const Points2d icp_points = thinEvenly(icp_map.points_m, static_cast<size_t>(oc.icp_max_points));
   diag.icp_points = icp_points.size();
   PointKdTree2d::Points dense(icp_map.points_m.begin(), icp_map.points_m.end());
@@ -196,8 +203,9 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
     double z = 0.0;
     for (const auto& h : hs) z += std::exp(-config_.confidence_tau * h.fitness_m);
     for (auto& h : hs) h.confidence = std::exp(-config_.confidence_tau * h.fitness_m) / z;
-    std::stable_sort(hs.begin(), hs.end(),
-                     [](const Hypothesis& a, const Hypothesis& b) { return a.fitness_m < b.fitness_m; });
+    std::stable_sort(hs.begin(), hs.end(), [](const Hypothesis& a, const Hypothesis& b) {
+      return a.fitness_m < b.fitness_m;
+    });
   };
   softmax(result_.hypotheses);
   softmax(result_.mirrored_hypotheses);
@@ -216,7 +224,10 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
        << result_.mirrored_hypotheses[0].fitness_m << " m): the sketch looks mirrored";
   } else if (verifier_.numFrames() < 3) {
     result_.status = RegistrationStatus::kTooFewFrames;
-    os << verifier_.numFrames() << " of 3 frames" << (diag.used_for_verification ? "" : " (this frame too close to the last or without candidates)");
+    os << verifier_.numFrames() << " of 3 frames"
+       << (diag.used_for_verification
+               ? ""
+               : " (this frame too close to the last or without candidates)");
   } else if (diag.icp_runs == 0) {
     result_.status = RegistrationStatus::kNoConsistentTriplet;
     os << "no consistent triplet over " << verifier_.numFrames() << " frames";
@@ -229,8 +240,8 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
   return result_;
 }
 
-void SketchRegistration::updateHypotheses(const Points2d& icp_points,
-                                          const ObservedIndex& observed, FrameDiagnostics& diag) {
+void SketchRegistration::updateHypotheses(const Points2d& icp_points, const ObservedIndex& observed,
+                                          FrameDiagnostics& diag) {
   struct Input {
     int id;
     int age;

@@ -48,8 +48,8 @@ FloorPlan makeOfficeFloor(Vector2d* bmin, Vector2d* bmax, std::vector<Box>* soli
   p.push_back({{44, 20}, {60, 20}});
   p.push_back({{18, 20}, {18, 40}});
   p.push_back({{44, 30}, {60, 30}});
-  p.push_back({{0, 31}, {8, 31}});   // a short wall in the north-west room
-  addBox(p, {52, 34}, {55, 37});     // a column in the north-east room
+  p.push_back({{0, 31}, {8, 31}});  // a short wall in the north-west room
+  addBox(p, {52, 34}, {55, 37});    // a column in the north-east room
   if (solids) *solids = {{{20, 4}, {24, 8}}, {{52, 34}, {55, 37}}};
   if (bmin) *bmin = lo;
   if (bmax) *bmax = hi;
@@ -63,9 +63,11 @@ FloorPlan makeGarageFloor(uint64_t seed, Vector2d* bmin, Vector2d* bmax, std::ve
   const Vector2d lo(0, 0), hi(190, 150);
   addBox(p, lo, hi);
   // Service cores and ramps: blocked areas that make places distinguishable.
-  const std::vector<std::pair<Vector2d, Vector2d>> blocks = {
-      {{20, 60}, {45, 80}}, {{120, 20}, {150, 35}}, {{90, 100}, {100, 140}},
-      {{160, 110}, {185, 120}}, {{60, 10}, {70, 30}}};
+  const std::vector<std::pair<Vector2d, Vector2d>> blocks = {{{20, 60}, {45, 80}},
+                                                             {{120, 20}, {150, 35}},
+                                                             {{90, 100}, {100, 140}},
+                                                             {{160, 110}, {185, 120}},
+                                                             {{60, 10}, {70, 30}}};
   for (const auto& b : blocks) addBox(p, b.first, b.second);
   if (solids) {
     solids->clear();
@@ -133,7 +135,10 @@ double segmentDistance(const Segment& s, const Vector2d& p) {
 TraversabilityCheck::TraversabilityCheck(const FloorPlan& plan, const std::vector<Box>& solids,
                                          const Vector2d& min_m, const Vector2d& max_m,
                                          double clearance_m)
-    : solids_(solids), min_m_(min_m), max_m_(max_m), clearance_m_(clearance_m),
+    : solids_(solids),
+      min_m_(min_m),
+      max_m_(max_m),
+      clearance_m_(clearance_m),
       cell_m_(std::max(2.0, 4.0 * clearance_m)) {
   nx_ = static_cast<int>((max_m.x() - min_m.x()) / cell_m_) + 1;
   ny_ = static_cast<int>((max_m.y() - min_m.y()) / cell_m_) + 1;
@@ -250,8 +255,8 @@ Points2d samplePath(const Points2d& waypoints, double step_m) {
 
 Scenario makeScenario(const FloorPlan& plan, const std::vector<Box>& solids,
                       const Vector2d& bounds_min, const Vector2d& bounds_max, const Sim2& T,
-                      const Points2d& waypoints_sketch_m, double sketch_spacing_m,
-                      double d_gap_m, double path_step_m) {
+                      const Points2d& waypoints_sketch_m, double sketch_spacing_m, double d_gap_m,
+                      double path_step_m) {
   Scenario sc;
   sc.sketch_plan = plan;
   sc.sketch_points_m = samplePlan(plan, sketch_spacing_m);

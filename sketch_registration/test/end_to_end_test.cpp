@@ -24,8 +24,8 @@ syn::Scenario officeScenario(const Sim2& T, bool mirror_sketch = false) {
   std::vector<syn::Box> solids;
   syn::FloorPlan plan = syn::makeOfficeFloor(&lo, &hi, &solids);
   // Corridor walk: along the horizontal corridor, up the vertical one, into rooms and back.
-  Points2d waypoints = {{3, 18}, {25, 18}, {42, 18}, {42, 37}, {42, 25}, {52, 25},
-                        {52, 18}, {58, 18}, {58, 10}, {38, 10}};
+  Points2d waypoints = {{3, 18},  {25, 18}, {42, 18}, {42, 37}, {42, 25},
+                        {52, 25}, {52, 18}, {58, 18}, {58, 10}, {38, 10}};
   syn::Scenario sc = syn::makeScenario(plan, solids, lo, hi, T, waypoints);
   if (mirror_sketch) {
     // The user drew the plan mirrored: the sketch the registration gets is reflected in y.
@@ -47,8 +47,12 @@ ScenarioRun runScenario(const syn::Scenario& sc, SketchRegistration& reg, int ma
     run.last = reg.addFrame(double(i), {p.x(), p.y(), 1.5}, sim.localMap(p, 40.0));
     run.statuses.push_back(run.last.status);
     if (getenv("EFS_DEBUG")) {
-      for (const auto& h : run.last.hypotheses) printf("  frame %zu id %d F %.3f inl %.3f %s\n", i, h.id, h.fitness_m, h.inlier_ratio, h.T_world_sketch.toString().c_str());
-      for (const auto& h : run.last.mirrored_hypotheses) printf("  frame %zu MIRROR id %d F %.3f inl %.3f %s\n", i, h.id, h.fitness_m, h.inlier_ratio, h.T_world_sketch.toString().c_str());
+      for (const auto& h : run.last.hypotheses)
+        printf("  frame %zu id %d F %.3f inl %.3f %s\n", i, h.id, h.fitness_m, h.inlier_ratio,
+               h.T_world_sketch.toString().c_str());
+      for (const auto& h : run.last.mirrored_hypotheses)
+        printf("  frame %zu MIRROR id %d F %.3f inl %.3f %s\n", i, h.id, h.fitness_m,
+               h.inlier_ratio, h.T_world_sketch.toString().c_str());
     }
     ++frames;
   }
@@ -167,10 +171,9 @@ TEST(EndToEnd, SketchOfAnotherPlaceYieldsNoHypothesis) {
   Vector2d lo, hi;
   std::vector<syn::Box> solids;
   const syn::FloorPlan garage = syn::makeGarageFloor(11, &lo, &hi, &solids);
-  const syn::Scenario other = syn::makeScenario(garage, solids, lo, Vector2d(90, 70), Sim2(),
-                                                {{4, 4}, {8, 4}});
-  SketchRegistration reg(SketchRegistration::Config{}, other.sketch_points_m,
-                         other.candidates_m);
+  const syn::Scenario other =
+      syn::makeScenario(garage, solids, lo, Vector2d(90, 70), Sim2(), {{4, 4}, {8, 4}});
+  SketchRegistration reg(SketchRegistration::Config{}, other.sketch_points_m, other.candidates_m);
   const ScenarioRun run = runScenario(office, reg);
   EXPECT_TRUE(run.last.hypotheses.empty());
   EXPECT_TRUE(run.last.status == RegistrationStatus::kNoConsistentTriplet ||

@@ -66,7 +66,8 @@ TEST(GeoContext, RotatedSceneIsAColumnShift) {
     const GeoContext d1 = computeGeoContext(rotatedAbout(pts, view, yaw, false), view, config);
     // World direction theta + yaw holds what the original had at theta: d1[i + shift] = d0[i].
     int close = 0;
-    for (int i = 0; i < n; ++i) close += std::abs(d1.range_m[(i + shift) % n] - d0.range_m[i]) < 0.05;
+    for (int i = 0; i < n; ++i)
+      close += std::abs(d1.range_m[(i + shift) % n] - d0.range_m[i]) < 0.05;
     EXPECT_GE(close, n - 2) << "shift " << shift;
     const ShiftMatch m = bestColumnShift(d0, d1, false);
     EXPECT_EQ(m.shift, shift);
@@ -146,7 +147,8 @@ TEST(GeoContext, SimilaritiesAreScaleInvariant) {
 TEST(GeoContext, EmptyOrSparseInputIsInvalid) {
   DescriptorConfig config;
   EXPECT_FALSE(computeGeoContext({}, Vector2d::Zero(), config).valid);
-  EXPECT_FALSE(computeGeoContext({Vector2d(10, 10), Vector2d(20, 0)}, Vector2d::Zero(), config).valid);
+  EXPECT_FALSE(
+      computeGeoContext({Vector2d(10, 10), Vector2d(20, 0)}, Vector2d::Zero(), config).valid);
   EXPECT_EQ(bestColumnShift(GeoContext{}, GeoContext{}, true).score, 0.0);
 }
 

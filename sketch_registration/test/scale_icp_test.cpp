@@ -30,7 +30,8 @@ IcpScene makeScene() {
   const syn::FloorPlan world = syn::transformed(plan, s.truth);
   std::mt19937 rng(4);
   std::normal_distribution<double> n(0.0, 0.03);
-  for (const Vector2d& p_sketch : {Vector2d(10, 18), Vector2d(25, 18), Vector2d(42, 18), Vector2d(42, 30), Vector2d(52, 25), Vector2d(42, 22)}) {
+  for (const Vector2d& p_sketch : {Vector2d(10, 18), Vector2d(25, 18), Vector2d(42, 18),
+                                   Vector2d(42, 30), Vector2d(52, 25), Vector2d(42, 22)}) {
     s.robot_world = s.truth.apply(p_sketch);
     for (const auto& h : syn::castRays(world, s.robot_world, 360, 30.0)) {
       s.observed_world.push_back(h + Vector2d(n(rng), n(rng)));
@@ -67,11 +68,14 @@ TEST(ScaleIcp, ConvergesFromPerturbedStart) {
     return T;
   };
   // Starts inside the capture range: 10 deg + 20 % + 2 m together, and each alone.
-  const std::vector<Sim2> starts = {
-      perturb(deg2rad(10), 1.2, {2, 0}), perturb(deg2rad(10), 1.0, {0, 0}),
-      perturb(deg2rad(-10), 1.0, {0, 0}), perturb(0, 1.2, {0, 0}),
-      perturb(0, 0.8, {0, 0}),            perturb(0, 1.0, {1.4, 1.4}),
-      perturb(0, 1.0, {0, -2}),           perturb(0, 1.0, {0, 0})};
+  const std::vector<Sim2> starts = {perturb(deg2rad(10), 1.2, {2, 0}),
+                                    perturb(deg2rad(10), 1.0, {0, 0}),
+                                    perturb(deg2rad(-10), 1.0, {0, 0}),
+                                    perturb(0, 1.2, {0, 0}),
+                                    perturb(0, 0.8, {0, 0}),
+                                    perturb(0, 1.0, {1.4, 1.4}),
+                                    perturb(0, 1.0, {0, -2}),
+                                    perturb(0, 1.0, {0, 0})};
   for (const Sim2& init : starts) {
     const IcpResult r = icp.refine(init, s.observed_world, 0.0, &index);
     EXPECT_TRUE(r.valid) << init.toString();

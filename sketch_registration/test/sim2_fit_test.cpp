@@ -31,8 +31,8 @@ TEST(Sim2Fit, TripletRecoversKnownTransformExactly) {
     EXPECT_NEAR(fit.rms_residual_m, 0.0, 1e-7);
     // The other handedness cannot fit a non-degenerate triangle; fitSim2Either picks the right
     // one (nearly collinear triangles fit both and are left to the preference).
-    const double area = std::abs((c[1] - c[0]).x() * (c[2] - c[0]).y() -
-                                 (c[1] - c[0]).y() * (c[2] - c[0]).x());
+    const double area =
+        std::abs((c[1] - c[0]).x() * (c[2] - c[0]).y() - (c[1] - c[0]).y() * (c[2] - c[0]).x());
     const double perimeter = (c[1] - c[0]).norm() + (c[2] - c[1]).norm() + (c[0] - c[2]).norm();
     if (area / (perimeter * perimeter) > 0.03) {
       EXPECT_EQ(fitSim2Either(c, p, false).T_world_sketch.reflected, mirror);
@@ -57,7 +57,8 @@ TEST(Sim2Fit, LeastSquaresWithNoiseAndBoundedScale) {
   const Sim2Fit bounded = fitSim2(c, p, false, 0.5, 1.2);
   EXPECT_DOUBLE_EQ(bounded.T_world_sketch.scale, 1.2);
   EXPECT_FALSE(fitSim2({Vector2d(1, 1)}, {Vector2d(2, 2)}, false).ok);
-  EXPECT_FALSE(fitSim2({Vector2d(1, 1), Vector2d(1, 1)}, {Vector2d(0, 0), Vector2d(1, 0)}, false).ok);
+  EXPECT_FALSE(
+      fitSim2({Vector2d(1, 1), Vector2d(1, 1)}, {Vector2d(0, 0), Vector2d(1, 0)}, false).ok);
 }
 
 TEST(Sim2Fit, TransformDistanceFollowsThePaperWeights) {
@@ -91,8 +92,8 @@ TEST(Dbscan, GroupsKnownClustersAndNoise) {
   }
   pts.emplace_back(30, 30);  // noise
   pts.emplace_back(-30, 5);  // noise
-  const auto labels = dbscan(pts.size(), 1.0, 3,
-                             [&](size_t i, size_t j) { return (pts[i] - pts[j]).norm(); });
+  const auto labels =
+      dbscan(pts.size(), 1.0, 3, [&](size_t i, size_t j) { return (pts[i] - pts[j]).norm(); });
   for (int k = 0; k < 3; ++k) {
     for (int i = 1; i < 20; ++i) EXPECT_EQ(labels[k * 20 + i], labels[k * 20]);
   }
@@ -102,8 +103,8 @@ TEST(Dbscan, GroupsKnownClustersAndNoise) {
   EXPECT_EQ(labels[60], kDbscanNoise);
   EXPECT_EQ(labels[61], kDbscanNoise);
   // With min_points 1 every point belongs to a cluster (singletons included).
-  const auto all = dbscan(pts.size(), 1.0, 1,
-                          [&](size_t i, size_t j) { return (pts[i] - pts[j]).norm(); });
+  const auto all =
+      dbscan(pts.size(), 1.0, 1, [&](size_t i, size_t j) { return (pts[i] - pts[j]).norm(); });
   for (int l : all) EXPECT_GE(l, 0);
 }
 
@@ -112,8 +113,8 @@ TEST(Dbscan, ClustersTransformsWithPaperDistance) {
   std::vector<Sim2> T = {Sim2(0.50, 1.0, {10, 10}), Sim2(0.52, 1.02, {10.3, 10.1}),
                          Sim2(0.49, 0.98, {9.8, 10.2}), Sim2(-2.0, 1.0, {10, 10}),
                          Sim2(-2.01, 1.0, {10.1, 10})};
-  const auto labels =
-      dbscan(T.size(), 5.0, 1, [&](size_t i, size_t j) { return transformDistance(T[i], T[j], w); });
+  const auto labels = dbscan(T.size(), 5.0, 1,
+                             [&](size_t i, size_t j) { return transformDistance(T[i], T[j], w); });
   EXPECT_EQ(labels[0], labels[1]);
   EXPECT_EQ(labels[0], labels[2]);
   EXPECT_EQ(labels[3], labels[4]);

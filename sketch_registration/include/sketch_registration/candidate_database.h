@@ -31,12 +31,12 @@ struct RetrievalConfig {
 
 /// One retrieved candidate: a sketch location that may be where the robot is.
 struct Candidate {
-  int index = -1;                     ///< into the database
+  int index = -1;  ///< into the database
   Eigen::Vector2d c_sketch = Eigen::Vector2d::Zero();
-  double score = 0.0;                 ///< combined S
+  double score = 0.0;  ///< combined S
   double s_cos = 0.0, s_fft = 0.0, s_cv = 0.0;
-  double yaw_rad = 0.0;               ///< sketch -> world rotation from the best column shift
-  bool reflected = false;             ///< best match was the mirror image
+  double yaw_rad = 0.0;    ///< sketch -> world rotation from the best column shift
+  bool reflected = false;  ///< best match was the mirror image
 };
 
 class CandidateDatabase {

@@ -24,9 +24,9 @@ struct DescriptorConfig {
   int fine_bins_per_bin = 8;  ///< HPR depth-buffer resolution = N_b * this
   int num_fft = 10;           ///< N_c
   double min_range_m = 0.2;
-  double max_range_m = 30.0;   ///< in the frame of the points described
+  double max_range_m = 30.0;  ///< in the frame of the points described
   double point_radius_m = 0.1;
-  int min_valid_bins = 6;      ///< fewer non-empty bins: the descriptor is unusable
+  int min_valid_bins = 6;  ///< fewer non-empty bins: the descriptor is unusable
   /// Retrieval searches column shifts coarse-to-fine: all shifts of a descriptor max-pooled by
   /// this factor, then every fine shift around the best `coarse_shift_keep` coarse ones. 1 =
   /// exhaustive. Must divide num_bins.
@@ -39,11 +39,11 @@ struct DescriptorConfig {
 
 /// GeoContext descriptor with its shift-invariant features.
 struct GeoContext {
-  std::vector<float> range_m;       ///< N_b maximum ranges, 0 for an empty bin
-  std::vector<float> fft_magnitude; ///< N_c magnitudes |DFT_k|, k = 0..N_c-1
-  std::vector<float> coarse_range_m; ///< max-pooled by coarse_shift_factor (bins centred alike)
-  double cv = 0.0;                  ///< coefficient of variation sigma / mu
-  bool valid = false;               ///< enough non-empty bins to be compared
+  std::vector<float> range_m;         ///< N_b maximum ranges, 0 for an empty bin
+  std::vector<float> fft_magnitude;   ///< N_c magnitudes |DFT_k|, k = 0..N_c-1
+  std::vector<float> coarse_range_m;  ///< max-pooled by coarse_shift_factor (bins centred alike)
+  double cv = 0.0;                    ///< coefficient of variation sigma / mu
+  bool valid = false;                 ///< enough non-empty bins to be compared
 };
 
 /// Descriptor of a point set seen from `viewpoint_m` (HPR is part of it).

@@ -29,24 +29,24 @@
 namespace efs::registration {
 
 struct VerifierConfig {
-  double scale_guess = 1.0;             ///< s_g: world metres per sketch metre
-  double scale_tolerance_factor = 2.5;  ///< pair scales in [s_g / f, s_g * f] pass
+  double scale_guess = 1.0;                 ///< s_g: world metres per sketch metre
+  double scale_tolerance_factor = 2.5;      ///< pair scales in [s_g / f, s_g * f] pass
   double triplet_scale_consistency = 0.35;  ///< |s_triplet / s~ - 1| at most this
-  double match_radius_m = 4.0;          ///< sketch frame: d_cand = 4 d_gap
-  double match_radius_rel = 0.25;       ///< + this times the distance to the nearest used candidate
+  double match_radius_m = 4.0;              ///< sketch frame: d_cand = 4 d_gap
+  double match_radius_rel = 0.25;  ///< + this times the distance to the nearest used candidate
   double min_anchor_displacement_m = 1.5;  ///< world: robot baseline below this gives no scale
-  double fd_threshold = 0.25;           ///< Fourier-descriptor distance sketch vs robot polygon
-  double max_relative_residual = 0.3;   ///< LS residual / robot-polygon spread
-  double yaw_tolerance_rad = 0.7;       ///< candidate shift yaw vs transform yaw; 0 disables
-  TransformDistanceWeights lambda;      ///< 5 / 10 / 1
-  double dbscan_eps = 10.0;             ///< in d_T units
-  int dbscan_min_points = 1;            ///< 1: singletons are clusters (few hypotheses early)
-  int n_f = 4;                          ///< N_f
-  int max_dormant_frames = 1;           ///< misses tolerated in a row
+  double fd_threshold = 0.25;              ///< Fourier-descriptor distance sketch vs robot polygon
+  double max_relative_residual = 0.3;      ///< LS residual / robot-polygon spread
+  double yaw_tolerance_rad = 0.7;          ///< candidate shift yaw vs transform yaw; 0 disables
+  TransformDistanceWeights lambda;         ///< 5 / 10 / 1
+  double dbscan_eps = 10.0;                ///< in d_T units
+  int dbscan_min_points = 1;               ///< 1: singletons are clusters (few hypotheses early)
+  int n_f = 4;                             ///< N_f
+  int max_dormant_frames = 1;              ///< misses tolerated in a row
   int max_tracks = 4000;
-  int max_cluster_input = 1500;         ///< DBSCAN is O(n^2): best tracks only
-  bool allow_reflection = true;         ///< also build mirror-image transforms
-  bool reseed_when_empty = true;        ///< after N_f, restart from the last three frames
+  int max_cluster_input = 1500;   ///< DBSCAN is O(n^2): best tracks only
+  bool allow_reflection = true;   ///< also build mirror-image transforms
+  bool reseed_when_empty = true;  ///< after N_f, restart from the last three frames
   uint64_t seed = 1;
   void validate() const;
 };
@@ -71,10 +71,10 @@ struct Representative {
 };
 
 struct VerifierStats {
-  size_t anchor_pairs = 0;        ///< all anchor pairs
-  size_t pairs_scale_ok = 0;      ///< passed the scale-guess filter
-  size_t triplets_tested = 0;     ///< third candidates near the prediction
-  size_t triplets_accepted = 0;   ///< scale, residual, yaw and FD filters passed
+  size_t anchor_pairs = 0;       ///< all anchor pairs
+  size_t pairs_scale_ok = 0;     ///< passed the scale-guess filter
+  size_t triplets_tested = 0;    ///< third candidates near the prediction
+  size_t triplets_accepted = 0;  ///< scale, residual, yaw and FD filters passed
   size_t tracks = 0;
   size_t representatives = 0;
 };

@@ -17,12 +17,12 @@ struct ObservationConfig {
   double descriptor_voxel_m = 0.1;  ///< grid for the GeoContext input
   double icp_voxel_m = 0.3;         ///< grid for the Scale-ICP input
   double icp_range_m = 40.0;        ///< horizontal radius kept for Scale-ICP
-  int icp_max_points = 800;        ///< evenly thinned above this
+  int icp_max_points = 800;         ///< evenly thinned above this
   void validate() const;
 };
 
 struct ProjectedMap {
-  Points2d points_m;             ///< unique grid cells (cell centroids of the first point)
+  Points2d points_m;  ///< unique grid cells (cell centroids of the first point)
   size_t num_input = 0;
   size_t num_non_finite = 0;
   size_t num_in_band = 0;
@@ -30,8 +30,9 @@ struct ProjectedMap {
 
 /// Projects finite points with z in the band and horizontal distance <= range_m to the robot onto
 /// a grid of `voxel_m`, one point per occupied cell (the first seen; deterministic).
-ProjectedMap projectLocalMap(const Points3d& local_map_world_m, const Eigen::Vector3d& robot_world_m,
-                             double min_dz_m, double max_dz_m, double range_m, double voxel_m);
+ProjectedMap projectLocalMap(const Points3d& local_map_world_m,
+                             const Eigen::Vector3d& robot_world_m, double min_dz_m, double max_dz_m,
+                             double range_m, double voxel_m);
 
 /// Keeps at most `max_points` with an even stride (deterministic).
 Points2d thinEvenly(const Points2d& points, size_t max_points);

@@ -67,8 +67,8 @@ struct IcpResult {
   double forward_fitness_m = 1e9;  ///< observation -> sketch
   double reverse_fitness_m = 0.0;  ///< visible sketch -> observation (0 when not evaluated)
   int iterations = 0;
-  int num_points = 0;         ///< observed points used
-  bool valid = false;         ///< enough points and inliers
+  int num_points = 0;  ///< observed points used
+  bool valid = false;  ///< enough points and inliers
 };
 
 class ScaleIcp {

@@ -44,20 +44,20 @@ enum class RegistrationStatus {
 const char* toString(RegistrationStatus status);
 
 struct Hypothesis {
-  int id = -1;                ///< stable over frames while the hypothesis survives
+  int id = -1;  ///< stable over frames while the hypothesis survives
   Sim2 T_world_sketch;
-  double fitness_m = 0.0;     ///< F
-  double confidence = 0.0;    ///< softmax(-tau F) over the reported hypotheses
+  double fitness_m = 0.0;   ///< F
+  double confidence = 0.0;  ///< softmax(-tau F) over the reported hypotheses
   double inlier_ratio = 0.0;
-  int age_frames = 0;         ///< frames since first reported
+  int age_frames = 0;  ///< frames since first reported
 };
 
 struct FrameDiagnostics {
   double time_s = 0.0;
   Eigen::Vector2d robot_world_m = Eigen::Vector2d::Zero();
-  GeoContext descriptor;              ///< of the observation at the robot
-  std::vector<Candidate> candidates;  ///< FindCand output of this frame
-  bool used_for_verification = false; ///< false: too close to the previous frame or no candidates
+  GeoContext descriptor;               ///< of the observation at the robot
+  std::vector<Candidate> candidates;   ///< FindCand output of this frame
+  bool used_for_verification = false;  ///< false: too close to the previous frame or no candidates
   VerifierStats verifier;
   size_t representatives = 0;
   size_t icp_runs = 0;
@@ -85,15 +85,15 @@ struct SketchRegistrationConfig {
   VerifierConfig verifier;              ///< its scale and reflection fields are set from here
   ScaleIcpConfig icp;                   ///< its scale bounds are set from here
   ObservationConfig observation;
-  double fitness_threshold_m = 0.6;     ///< F_thresh (not given in the paper)
-  double confidence_tau = 0.3;          ///< tau
-  double max_speed_mps = 20.0;          ///< faster between frames = odometry jump
+  double fitness_threshold_m = 0.6;  ///< F_thresh (not given in the paper)
+  double confidence_tau = 0.3;       ///< tau
+  double max_speed_mps = 20.0;       ///< faster between frames = odometry jump
   ReflectionMode reflection = ReflectionMode::kDetect;
-  int max_icp_inputs = 8;               ///< new representatives refined per frame
-  int icp_retry_frames = 3;             ///< a rejected transform is retried after this many frames
-  int mirror_min_age_frames = 2;        ///< kMirroredSketch only once a mirror fit has persisted
+  int max_icp_inputs = 8;         ///< new representatives refined per frame
+  int icp_retry_frames = 3;       ///< a rejected transform is retried after this many frames
+  int mirror_min_age_frames = 2;  ///< kMirroredSketch only once a mirror fit has persisted
   int max_hypotheses = 10;
-  double merge_distance = 10.0;         ///< d_T below which refined hypotheses are one
+  double merge_distance = 10.0;  ///< d_T below which refined hypotheses are one
   void validate() const;
 };
 

@@ -30,17 +30,19 @@ struct Box {
 /// Four walls of an axis-aligned box.
 void addBox(FloorPlan& plan, const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m);
 /// A straight wall from a to b with a door gap of `door_m` centred at fraction `at` (0..1).
-void addWallWithDoor(FloorPlan& plan, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                     double at, double door_m);
+void addWallWithDoor(FloorPlan& plan, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double at,
+                     double door_m);
 
 /// An asymmetric office-like floor of about 60 x 40 m: rooms of different sizes off an L-shaped
 /// corridor, with doors. `bounds_min/max` receive the outer box.
 FloorPlan makeOfficeFloor(Eigen::Vector2d* bounds_min = nullptr,
-                          Eigen::Vector2d* bounds_max = nullptr, std::vector<Box>* solids = nullptr);
+                          Eigen::Vector2d* bounds_max = nullptr,
+                          std::vector<Box>* solids = nullptr);
 /// A parking-garage-like floor of about 190 x 150 m: outer walls, a grid of pillars, ramps and
 /// service cores (seeded irregularity so that places differ).
 FloorPlan makeGarageFloor(uint64_t seed, Eigen::Vector2d* bounds_min = nullptr,
-                          Eigen::Vector2d* bounds_max = nullptr, std::vector<Box>* solids = nullptr);
+                          Eigen::Vector2d* bounds_max = nullptr,
+                          std::vector<Box>* solids = nullptr);
 
 FloorPlan transformed(const FloorPlan& plan, const Sim2& T);
 Points2d samplePlan(const FloorPlan& plan, double spacing_m);
