@@ -97,13 +97,15 @@ std::vector<Eigen::Vector3d> mid360Scan(const Cave& cave, const Eigen::Vector3d&
   const double s_lo = std::sin(-7.0 * kPi / 180.0), s_hi = std::sin(52.0 * kPi / 180.0);
   const double cp = std::cos(pitch_rad), sp = std::sin(pitch_rad);
   const double cy = std::cos(yaw), sy = std::sin(yaw);
-  const double shift1 = std::fmod(frame * 0.3819660113, 1.0), shift2 = std::fmod(frame * 0.1234567, 1.0);
+  const double shift1 = std::fmod(frame * 0.3819660113, 1.0),
+               shift2 = std::fmod(frame * 0.1234567, 1.0);
   for (int i = 0; i < n_points; ++i) {
     const double u = std::fmod(i * 0.7548776662466927 + shift1, 1.0);
     const double v = std::fmod(i * 0.5698402909980532 + shift2, 1.0);
     const double az = 2.0 * kPi * u;
     const double el = std::asin(s_lo + v * (s_hi - s_lo));
-    const Eigen::Vector3d ds(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    const Eigen::Vector3d ds(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
+                             std::sin(el));
     // sensor -> body (pitch about y, nose down positive) -> world (yaw)
     const Eigen::Vector3d db(cp * ds.x() + sp * ds.z(), ds.y(), -sp * ds.x() + cp * ds.z());
     const Eigen::Vector3d dw(cy * db.x() - sy * db.y(), sy * db.x() + cy * db.y(), db.z());
@@ -146,6 +148,7 @@ int main(int argc, char** argv) {
   const double length_m = argc > 1 ? std::atof(argv[1]) : 150.0;
   const double step_m = argc > 2 ? std::atof(argv[2]) : 0.5;
   const double report_every_m = argc > 3 ? std::atof(argv[3]) : 25.0;
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   const int kPoints = 20000;
   const double kPitch = 15.0 * kPi / 180.0;
 
@@ -157,9 +160,10 @@ int main(int argc, char** argv) {
   PathLengthCache paths(occ);
 
   Series t_occ, t_obs, t_map, t_front, t_vp, pts_per_scan;
-  std::printf("observation_map_bench: cave %.0f m, %.2f m per frame, %d-point Mid-360 frames, "
-              "40 m range, 0.3 m cells\n\n",
-              length_m, step_m, kPoints);
+  std::printf(
+      "observation_map_bench: cave %.0f m, %.2f m per frame, %d-point Mid-360 frames, "
+      "40 m range, 0.3 m cells\n\n",
+      length_m, step_m, kPoints);
   std::printf("%9s %10s %10s %10s %12s %12s %10s %10s %9s\n", "flown_m", "surface", "well_obs",
               "frontier", "occ_blocks", "map_MiB", "B/m_cave", "B/m2_surf", "clusters");
   int frame = 0;
@@ -230,9 +234,34 @@ int main(int argc, char** argv) {
     paths.length(~0ull, robot, static_cast<uint64_t>(v.id), v.position_world_m);
     warm.v.push_back(w.elapsedMs());
   }
+  // All pairs among (at most) the 60 viewpoints nearest to the robot: a planning cycle's matrix.
+  std::vector<Viewpoint> near = vps;
+  std::sort(near.begin(), near.end(), [&](const Viewpoint& x, const Viewpoint& y) {
+    return (x.position_world_m - robot).squaredNorm() < (y.position_world_m - robot).squaredNorm();
+  });
+  if (near.size() > 60) near.resize(60);
+  Series pair_cold;
+  int pairs_straight = 0, pairs_total = 0;
+  CpuWatch whole;
+  for (size_t i = 0; i < near.size(); ++i) {
+    for (size_t j = i + 1; j < near.size(); ++j) {
+      CpuWatch w;
+      paths.length(near[i].id, near[i].position_world_m, near[j].id, near[j].position_world_m);
+      pair_cold.v.push_back(w.elapsedMs());
+      ++pairs_total;
+      pairs_straight +=
+          occ.segmentSafe(near[i].position_world_m, near[j].position_world_m, 0.4, false);
+    }
+  }
+  const double whole_ms = whole.elapsedMs();
   std::printf("\npath lengths robot -> %zu viewpoints (%d reachable):\n", vps.size(), reachable);
   row("L(robot, viewpoint), searched", cold, "");
   row("L(robot, viewpoint), cached", warm, "");
+  std::printf(
+      "all %d pairs of the %zu nearest viewpoints (%d straight): %.0f ms in total "
+      "(incl. a straight-line check per pair for this count)\n",
+      pairs_total, near.size(), pairs_straight, whole_ms);
+  row("L(viewpoint, viewpoint), searched", pair_cold, "");
   std::printf("\npeak RSS %.1f MiB\n", efs::peakRssBytes() / double(1 << 20));
   return 0;
 }

@@ -108,7 +108,8 @@ void FrontierClusterer::addCluster(std::vector<VoxelKey> cells, double res) {
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
     const Eigen::Vector3d axis = es.eigenvectors().col(2);
     std::vector<VoxelKey> a, b;
-    for (const VoxelKey& k : cells) (axis.dot(voxelCenter(k, res) - mean) < 0.0 ? a : b).push_back(k);
+    for (const VoxelKey& k : cells)
+      (axis.dot(voxelCenter(k, res) - mean) < 0.0 ? a : b).push_back(k);
     if (!a.empty() && !b.empty()) {
       addCluster(std::move(a), res);
       addCluster(std::move(b), res);

@@ -212,9 +212,9 @@ size_t ObservationMap::memoryBytes() const {
   const size_t node = sizeof(VoxelKey) + sizeof(SurfaceCell) + sizeof(void*) + sizeof(size_t);
   const size_t set_node = sizeof(VoxelKey) + sizeof(void*) + sizeof(size_t);
   const size_t col_node = sizeof(VoxelKey) + 8 + sizeof(void*) + sizeof(size_t);
-  return cells_.size() * node + cells_.bucket_count() * sizeof(void*) +
-         columns_.size() * col_node + columns_.bucket_count() * sizeof(void*) +
-         frontier_cells_.size() * set_node + frontier_cells_.bucket_count() * sizeof(void*);
+  return cells_.size() * node + cells_.bucket_count() * sizeof(void*) + columns_.size() * col_node +
+         columns_.bucket_count() * sizeof(void*) + frontier_cells_.size() * set_node +
+         frontier_cells_.bucket_count() * sizeof(void*);
 }
 
 }  // namespace efs::planner

@@ -184,12 +184,13 @@ bool OccupancyMap::isSafe(const Eigen::Vector3d& p, double radius_m, bool unknow
   return true;
 }
 
-bool OccupancyMap::segmentSafe(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                               double radius_m, bool unknown_is_safe) const {
+bool OccupancyMap::segmentSafe(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius_m,
+                               bool unknown_is_safe) const {
   const double len = (b - a).norm();
   const int n = std::max(1, static_cast<int>(std::ceil(len / (0.5 * config_.resolution_m))));
   for (int i = 0; i <= n; ++i) {
-    if (!isSafe(a + (b - a) * (static_cast<double>(i) / n), radius_m, unknown_is_safe)) return false;
+    if (!isSafe(a + (b - a) * (static_cast<double>(i) / n), radius_m, unknown_is_safe))
+      return false;
   }
   return true;
 }

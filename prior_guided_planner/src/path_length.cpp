@@ -165,12 +165,14 @@ PathLengthCache::PathLengthCache(const OccupancyMap& occ, PathSearchConfig confi
 std::optional<double> PathLengthCache::length(uint64_t id_a, const Eigen::Vector3d& a,
                                               uint64_t id_b, const Eigen::Vector3d& b) {
   const bool swap = id_b < id_a;
-  const std::pair<uint64_t, uint64_t> key = swap ? std::make_pair(id_b, id_a) : std::make_pair(id_a, id_b);
+  const std::pair<uint64_t, uint64_t> key =
+      swap ? std::make_pair(id_b, id_a) : std::make_pair(id_a, id_b);
   const Eigen::Vector3d& p = swap ? b : a;
   const Eigen::Vector3d& q = swap ? a : b;
   const double tol = search_.config().endpoint_tolerance_m;
   auto it = entries_.find(key);
-  if (it != entries_.end() && (it->second.a - p).norm() <= tol && (it->second.b - q).norm() <= tol) {
+  if (it != entries_.end() && (it->second.a - p).norm() <= tol &&
+      (it->second.b - q).norm() <= tol) {
     ++stats_.hits;
     return it->second.length_m;
   }

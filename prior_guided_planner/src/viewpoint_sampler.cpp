@@ -165,8 +165,7 @@ std::vector<Viewpoint> ViewpointSampler::sample(const FrontierCluster& cluster, 
   for (const Candidate& c : cand) {
     // A full kept list whose worst member sees at least what this candidate could: done.
     // (Ties therefore go to the candidate with the larger bound, then the generation order.)
-    if (kept.size() >= keep &&
-        std::lround(c.bound * scale) <= kept.back().second.visible_cells)
+    if (kept.size() >= keep && std::lround(c.bound * scale) <= kept.back().second.visible_cells)
       break;
     if (!occ.isSafe(c.p, config_.clearance_m, !config_.require_known_free)) continue;
     double yaw = 0.0;

@@ -83,8 +83,8 @@ TEST(FrontierClusters, UntouchedClustersKeepTheirIds) {
       for (int j = 0; j < 4; ++j) pts.emplace_back(x0 + (i + 0.5) * 0.3, 0.15, (j + 0.5) * 0.3);
     return std::make_pair(Eigen::Vector3d(x0 + 0.9, 0.15 + sensor_dist, 0.6), pts);
   };
-  auto [o1, near1] = wallScan(0.0, 2.0);   // cells x 0..5 well observed
-  auto [o2, far1] = wallScan(1.8, 7.0);    // cells x 6..11 poorly observed
+  auto [o1, near1] = wallScan(0.0, 2.0);  // cells x 0..5 well observed
+  auto [o2, far1] = wallScan(1.8, 7.0);   // cells x 6..11 poorly observed
   auto [o3, near2] = wallScan(30.0, 2.0);
   auto [o4, far2] = wallScan(31.8, 7.0);
   m.insertScan(o1, near1);

@@ -22,11 +22,11 @@ TEST(ObservationMap, WellObservedRuleHandCases) {
 }
 
 TEST(ObservationMap, DirectionBinsSplitAzimuthAndElevation) {
-  EXPECT_EQ(ObservationMap::directionBin({1, 0, 0}), 8 + 4);     // horizontal, azimuth 0
-  EXPECT_EQ(ObservationMap::directionBin({0, 1, 0}), 8 + 6);     // azimuth +90 deg
-  EXPECT_EQ(ObservationMap::directionBin({1, 0, 1}), 16 + 4);    // 45 deg up
-  EXPECT_EQ(ObservationMap::directionBin({1, 0, -1}), 0 + 4);    // 45 deg down
-  EXPECT_EQ(ObservationMap::directionBin({1, 0, 0.5}), 8 + 4);   // 26.6 deg: middle band
+  EXPECT_EQ(ObservationMap::directionBin({1, 0, 0}), 8 + 4);    // horizontal, azimuth 0
+  EXPECT_EQ(ObservationMap::directionBin({0, 1, 0}), 8 + 6);    // azimuth +90 deg
+  EXPECT_EQ(ObservationMap::directionBin({1, 0, 1}), 16 + 4);   // 45 deg up
+  EXPECT_EQ(ObservationMap::directionBin({1, 0, -1}), 0 + 4);   // 45 deg down
+  EXPECT_EQ(ObservationMap::directionBin({1, 0, 0.5}), 8 + 4);  // 26.6 deg: middle band
   EXPECT_EQ(ObservationMap::directionBin({-1, -1e-9, 0}), 8 + 0);
 }
 

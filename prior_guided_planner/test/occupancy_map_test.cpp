@@ -56,7 +56,7 @@ TEST(OccupancyMap, BadPointsAreCountedAndIgnored) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
   const auto st = m.insertScan(kOrigin, {Eigen::Vector3d(nan, 0, 0), Eigen::Vector3d(1, inf, 0),
-                                         Eigen::Vector3d(0.2, 0.15, 0.15),  // 5 cm: the vehicle
+                                         Eigen::Vector3d(0.2, 0.15, 0.15),    // 5 cm: the vehicle
                                          Eigen::Vector3d(60.15, 0.15, 0.15),  // beyond 40 m
                                          Eigen::Vector3d(2.15, 0.15, 0.15)});
   EXPECT_EQ(st.points_in, 5u);

@@ -38,8 +38,9 @@ TEST(PathLength, LongerAroundAWall) {
   s.room = {Eigen::Vector3d(-10, -10, -0.05), Eigen::Vector3d(10, 10, 4)};
   s.solids.push_back({Eigen::Vector3d(-0.15, -10.1, -0.1), Eigen::Vector3d(0.15, 2.0, 4.1)});
   OccupancyMap occ;
-  scanFrom(occ, s, {Eigen::Vector3d(-3, 0, 2), Eigen::Vector3d(3, 0, 2), Eigen::Vector3d(0, 5, 2),
-                    Eigen::Vector3d(-3, -4, 2), Eigen::Vector3d(3, -4, 2)});
+  scanFrom(occ, s,
+           {Eigen::Vector3d(-3, 0, 2), Eigen::Vector3d(3, 0, 2), Eigen::Vector3d(0, 5, 2),
+            Eigen::Vector3d(-3, -4, 2), Eigen::Vector3d(3, -4, 2)});
   PathSearch ps(occ);
   const Eigen::Vector3d a(-3, -3, 2), b(3, -3, 2);
   const auto r = ps.search(a, b);
@@ -56,7 +57,8 @@ TEST(PathLength, LongerAroundAWall) {
   // Every leg of the returned path is collision free for the vehicle (end legs: radius 0).
   const auto& w = r.waypoints_world_m;
   ASSERT_GE(w.size(), 3u);
-  for (size_t i = 1; i + 2 < w.size(); ++i) EXPECT_TRUE(occ.segmentSafe(w[i], w[i + 1], 0.4, false));
+  for (size_t i = 1; i + 2 < w.size(); ++i)
+    EXPECT_TRUE(occ.segmentSafe(w[i], w[i + 1], 0.4, false));
   EXPECT_EQ(w.front(), a);
   EXPECT_EQ(w.back(), b);
 }
@@ -67,9 +69,9 @@ TEST(PathLength, UnreachableIntoAClosedBox) {
   outside.solids = testing::hollowBox(Eigen::Vector3d(1, 1, -0.05), Eigen::Vector3d(4, 4, 3), 0.3);
   OccupancyMap occ;
   // Scans outside the box and one inside it: the inside is known free but sealed.
-  scanFrom(occ, outside, {Eigen::Vector3d(-3, -3, 2), Eigen::Vector3d(6, 6, 2),
-                          Eigen::Vector3d(-3, 6, 2), Eigen::Vector3d(6, -3, 2),
-                          Eigen::Vector3d(2.5, 2.5, 1.5)});
+  scanFrom(occ, outside,
+           {Eigen::Vector3d(-3, -3, 2), Eigen::Vector3d(6, 6, 2), Eigen::Vector3d(-3, 6, 2),
+            Eigen::Vector3d(6, -3, 2), Eigen::Vector3d(2.5, 2.5, 1.5)});
   const Eigen::Vector3d out(-3, -3, 2), in(2.5, 2.5, 1.5), in2(2.0, 3.0, 1.5);
   ASSERT_TRUE(occ.isSafe(in, 0.4, false));
   PathSearch ps(occ);

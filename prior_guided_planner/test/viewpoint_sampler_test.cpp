@@ -43,12 +43,12 @@ TEST(LidarFov, Mid360ElevationBandWithoutPitch) {
 TEST(LidarFov, MountPitchTiltsTheBandForwardDown) {
   const LidarFov fov;  // 15 deg nose-down mount
   EXPECT_NEAR(fov.sensorElevation(dirAt(0.0, -15.0), 0.0), 0.0, 1e-12);
-  EXPECT_TRUE(fov.inFov(dirAt(0.0, -15.0), 0.0));     // ahead and below: visible
-  EXPECT_FALSE(fov.inFov(dirAt(180.0, -15.0), 0.0));  // behind and below: -30 deg, not
+  EXPECT_TRUE(fov.inFov(dirAt(0.0, -15.0), 0.0));             // ahead and below: visible
+  EXPECT_FALSE(fov.inFov(dirAt(180.0, -15.0), 0.0));          // behind and below: -30 deg, not
   EXPECT_TRUE(fov.inFov(dirAt(180.0, -15.0), 180.0 * kDeg));  // turn around: visible
-  EXPECT_FALSE(fov.inFov({0, 0, -1}, 0.0));           // straight below is still -75 deg
-  EXPECT_TRUE(fov.inFov(dirAt(180.0, 60.0), 0.0));    // behind, high: +45 deg in the sensor
-  EXPECT_FALSE(fov.inFov(dirAt(0.0, 60.0), 0.0));     // ahead, high: +75 deg, not
+  EXPECT_FALSE(fov.inFov({0, 0, -1}, 0.0));                   // straight below is still -75 deg
+  EXPECT_TRUE(fov.inFov(dirAt(180.0, 60.0), 0.0));            // behind, high: +45 deg in the sensor
+  EXPECT_FALSE(fov.inFov(dirAt(0.0, 60.0), 0.0));             // ahead, high: +75 deg, not
   EXPECT_NEAR(fov.sensorElevation(dirAt(90.0, -10.0), 0.0), -10.0 * kDeg, 0.01);  // sideways
 }
 
@@ -59,8 +59,8 @@ struct ScannedRoom {
   ScannedRoom() {
     scene.room = {Eigen::Vector3d(-4.95, -4.95, 0.15), Eigen::Vector3d(5.25, 5.25, 4.05)};
     scene.solids.push_back({Eigen::Vector3d(1.95, -0.45, 0.0), Eigen::Vector3d(2.55, 0.75, 4.1)});
-    for (const Eigen::Vector3d& o : {Eigen::Vector3d(0, 0, 2), Eigen::Vector3d(3, 3, 2),
-                                     Eigen::Vector3d(-3, -3, 2)})
+    for (const Eigen::Vector3d& o :
+         {Eigen::Vector3d(0, 0, 2), Eigen::Vector3d(3, 3, 2), Eigen::Vector3d(-3, -3, 2)})
       occ.insertScan(o, scene.scanSphere(o, 1.0));
   }
 };
@@ -106,8 +106,8 @@ TEST(ViewpointSampler, BlockedLineOfSightAndRangeDoNotCount) {
   // Beyond the useful range nothing counts.
   ViewpointConfig short_range;
   short_range.useful_range_m = 3.0;
-  EXPECT_EQ(ViewpointSampler(short_range).scoreAt(Eigen::Vector3d(-4.35, 0.15, 1.2), cells,
-                                                  r.occ, nullptr),
+  EXPECT_EQ(ViewpointSampler(short_range)
+                .scoreAt(Eigen::Vector3d(-4.35, 0.15, 1.2), cells, r.occ, nullptr),
             0);
 }
 

@@ -86,7 +86,9 @@ class ObservationMap {
   size_t numSurfaceCells() const { return cells_.size(); }
   size_t numWellObserved() const { return num_well_; }
   size_t numFrontierCells() const { return frontier_cells_.size(); }
-  const std::unordered_set<VoxelKey, VoxelKeyHash>& frontierCells() const { return frontier_cells_; }
+  const std::unordered_set<VoxelKey, VoxelKeyHash>& frontierCells() const {
+    return frontier_cells_;
+  }
   const std::unordered_map<VoxelKey, SurfaceCell, VoxelKeyHash>& cells() const { return cells_; }
 
   /// Cells whose frontier flag changed since the last call (deduplicated), then forgets them.

@@ -49,8 +49,8 @@ bool forEachCellOnSegment(const Eigen::Vector3d& a_m, const Eigen::Vector3d& b_m
       t_max[i] = t_delta[i] = std::numeric_limits<double>::infinity();
     }
   }
-  const int64_t n = std::abs(int64_t(kb.x) - k.x) + std::abs(int64_t(kb.y) - k.y) +
-                    std::abs(int64_t(kb.z) - k.z);
+  const int64_t n =
+      std::abs(int64_t(kb.x) - k.x) + std::abs(int64_t(kb.y) - k.y) + std::abs(int64_t(kb.z) - k.z);
   int32_t* kk[3] = {&k.x, &k.y, &k.z};
   for (int64_t s = 0; s < n; ++s) {
     if (!f(static_cast<const VoxelKey&>(k))) return false;
@@ -88,8 +88,8 @@ struct OccupancyUpdateStats {
   size_t points_clipped = 0;             ///< beyond max_range_m: free space only
   size_t rays_cast = 0;                  ///< after merging rays ending in the same cell
   size_t cells_traversed = 0;
-  size_t blocks_changed = 0;  ///< blocks in which some cell changed its state
-  bool rejected_scan = false; ///< non-finite sensor origin: nothing inserted
+  size_t blocks_changed = 0;   ///< blocks in which some cell changed its state
+  bool rejected_scan = false;  ///< non-finite sensor origin: nothing inserted
 };
 
 class OccupancyMap {
@@ -159,8 +159,7 @@ class OccupancyMap {
   Block* findBlock(const VoxelKey& block_key) const;
   Block& touchBlock(const VoxelKey& block_key);
   static int localIndex(const VoxelKey& cell) {
-    return (cell.x & (kBlockSize - 1)) |
-           ((cell.y & (kBlockSize - 1)) << kBlockBits) |
+    return (cell.x & (kBlockSize - 1)) | ((cell.y & (kBlockSize - 1)) << kBlockBits) |
            ((cell.z & (kBlockSize - 1)) << (2 * kBlockBits));
   }
   OccupancyState classify(int8_t v) const {
