@@ -276,18 +276,22 @@ Polytope CorridorBuilder::inflateSegment(const Eigen::Vector3d& sa, const Eigen:
       if (remaining[i].second < best_d) best_d = remaining[i].second, best = i;
     while (best >= 0) {
       const Eigen::Vector3d o = remaining[best].first;
+      // The seed-separating plane leaves the seed a margin of dist(o, seed) - clearance, the most
+      // any plane through o can. The IRIS tangent plane (better for volume) is taken only if it
+      // leaves at least half of that, so that the corridor never pinches the seed.
+      const Eigen::Vector3d c = closestOnSegment(sa, sb, o);
+      const double dn = (o - c).norm();
+      bool skip = false;
       Eigen::Vector3d nrm = Cinv.transpose() * (Cinv * (o - d));  // IRIS tangent plane normal
       double seed_max = 0.0;
       bool tangent_ok = nrm.norm() > 1e-12;
       if (tangent_ok) {
         nrm.normalize();
         seed_max = std::max(nrm.dot(sa), nrm.dot(sb));
-        tangent_ok = seed_max <= nrm.dot(o) - cfg_.clearance_m;
+        const double wanted = cfg_.clearance_m + 0.5 * std::max(0.0, dn - cfg_.clearance_m);
+        tangent_ok = seed_max <= nrm.dot(o) - wanted;
       }
-      bool skip = false;
       if (!tangent_ok) {
-        const Eigen::Vector3d c = closestOnSegment(sa, sb, o);
-        const double dn = (o - c).norm();
         if (dn < 1e-9) {
           *in_collision = true;  // nothing can separate a point on the seed
           skip = true;

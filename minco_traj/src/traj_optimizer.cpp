@@ -104,7 +104,7 @@ double MincoCorridorCost::operator()(const Eigen::VectorXd& x, Eigen::VectorXd& 
   gT_.array() += cfg_.weight_time;
 
   const Eigen::MatrixXd& c = minco_.coeffs();
-  const int K = cfg_.samples_per_piece;
+  const int K = cfg_.samples_per_piece * sample_factor_;
   const double vpen = cfg_.penalty_velocity_fraction * cfg_.v_max_mps;
   const double apen = cfg_.penalty_acceleration_fraction * cfg_.a_max_mps2;
   const double vpen2 = vpen * vpen, apen2 = apen * apen, eps = cfg_.smoothing_eps;
@@ -282,9 +282,13 @@ TrajOptResult TrajOptimizer::optimize(const Eigen::Matrix3d& head, const Eigen::
   double scale = 1.0;
   for (int attempt = 0; attempt <= cfg_.max_retries; ++attempt) {
     cost.setPenaltyScale(scale);
+    cost.setSampleFactor(1 << attempt);  // retries also sample the penalties more densely
     res.retries = attempt;
     try {
-      res.solver = lbfgsMinimize(f, x, cfg_.lbfgs);
+      // Residual violations are a tiny part of the cost, so retries also ask for more progress.
+      LbfgsConfig lb = cfg_.lbfgs;
+      lb.rel_cost_tol *= std::pow(0.01, attempt);
+      res.solver = lbfgsMinimize(f, x, lb);
     } catch (const std::exception& e) {
       res.status = TrajOptStatus::kOptimizerFailed;
       res.message = e.what();

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <random>
 
 #include "efs_common/config_check.h"
@@ -263,6 +264,67 @@ TEST(Config, ValidateNamesTheKey) {
   LbfgsConfig l;
   l.memory = 0;
   EXPECT_THROW(l.validate(), ConfigError);
+}
+
+}  // namespace
+}  // namespace efs::traj
+
+namespace efs::traj {
+namespace {
+
+// Random pillar fields around random zig-zag seeds: every optimised trajectory must pass the
+// final check (inside the corridor, v <= 1.02 v_max, |a| <= a_max), re-verified here densely.
+TEST(TrajOptimizer, RandomCorridorsAllFeasibleAndChecked) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> turn(-1.0, 1.0), seg(2.0, 4.0), u(-1.0, 1.0);
+  CorridorConfig ccfg;
+  ccfg.max_seed_length_m = 100.0;
+  CorridorBuilder builder(ccfg);
+  TrajOptConfig cfg;
+  TrajOptimizer opt(cfg);
+  for (int trial = 0; trial < 6; ++trial) {
+    std::vector<Eigen::Vector3d> path = {{0, 0, 1.5}};
+    double heading = 0;
+    for (int k = 0; k < 4 + trial; ++k) {
+      heading += turn(rng);
+      const double L = seg(rng);
+      path.push_back(path.back() +
+                     Eigen::Vector3d(L * std::cos(heading), L * std::sin(heading), 0.2 * u(rng)));
+    }
+    std::vector<Eigen::Vector3d> obstacles;
+    for (int i = 0; i < 4000; ++i) {
+      const Eigen::Vector3d p =
+          path[i % path.size()] + Eigen::Vector3d(3 * u(rng), 3 * u(rng), 1.5 * u(rng));
+      double d = 1e9;
+      for (size_t k = 0; k + 1 < path.size(); ++k) {
+        const Eigen::Vector3d a = path[k], b = path[k + 1];
+        const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+        d = std::min(d, (a + t * (b - a) - p).norm());
+      }
+      if (d > 0.5) obstacles.push_back(p);
+    }
+    const auto corr =
+        builder.build(path, obstacles, Eigen::Vector3d(-50, -50, -5), Eigen::Vector3d(50, 50, 5));
+    ASSERT_TRUE(corr.ok());
+    Eigen::Matrix3d head = Eigen::Matrix3d::Zero(), tail = Eigen::Matrix3d::Zero();
+    head.col(0) = path.front();
+    // Already moving along the first segment (a sideways start velocity in a 0.2 m wide corridor
+    // can be genuinely infeasible at a_max, and is then refused, see RefusesWhenLimitsCannotBeMet).
+    head.col(1) = 1.5 * (path[1] - path[0]).normalized();
+    tail.col(0) = path.back();
+    const auto res = opt.optimize(head, tail, corr.polytopes);
+    ASSERT_TRUE(res.ok()) << "trial " << trial << ": " << res.message;
+    const Trajectory& tr = res.trajectory;
+    for (double t = 0; t <= tr.duration(); t += 0.003) {
+      const Eigen::Vector3d p = tr.position(t);
+      double best = 1e9;
+      for (const auto& poly : corr.polytopes) best = std::min(best, poly.violation(p));
+      EXPECT_LE(best, cfg.corridor_tolerance_m) << "trial " << trial << " t " << t;
+      EXPECT_LE(tr.velocity(t).norm(), cfg.v_max_mps * 1.02);
+      EXPECT_LE(tr.acceleration(t).norm(), cfg.a_max_mps2 + 1e-9);
+      for (const auto& o : obstacles) ASSERT_GT((o - p).norm(), 0.2);
+    }
+  }
 }
 
 }  // namespace

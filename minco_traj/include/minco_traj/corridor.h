@@ -7,14 +7,21 @@
 //   1. Half-space step. Obstacle points (occupied cell centres) are visited in order of their
 //      distance to the current ellipsoid E = {C u + d : |u| <= 1} in E's own metric. The nearest
 //      unhandled point o gets the plane tangent to the scaled ellipsoid through o (IRIS). If that
-//      plane, moved inward by clearance_m, would cut the seed segment, the plane through o
-//      perpendicular to the segment-to-o direction is used instead (FIRI's requirement that the
-//      seed stays inside). All points on or beyond the plane are handled. Each plane is then moved
-//      inward by clearance_m, but never past the seed (the polytope is flagged clearance_reduced
-//      when that limit binds). Obstacles up to clearance_m outside the seed's box are included, so
-//      the box faces keep the clearance too.
+//      plane, moved inward by clearance_m, would leave the seed segment less than half of the
+//      margin dist(o, seed) - clearance_m, the plane through o perpendicular to the segment-to-o
+//      direction is used instead (FIRI's requirement that the seed stays inside, with room). All
+//      points on or beyond the plane are handled. Each plane is then moved inward by clearance_m,
+//      but never past the seed (the polytope is flagged clearance_reduced when that limit binds).
+//      Obstacles up to clearance_m outside the seed's box are included, so the box faces keep the
+//      clearance too.
 //   2. Ellipsoid step. The maximum-volume ellipsoid inscribed in the polytope, by a log-barrier
-//      Newton method on (L lower triangular, d): maximise log det L s.t. |L^T a_i| + a_i.d <= b_i.
+//      Newton method on (L lower triangular, d): maximise log det L s.t. |L^T a_i| + a_i.d <= b_i
+//      (two points of the central path; Hessian by differences of the analytic gradient). It is
+//      skipped after the last half-space step.
+// Unlike FIRI we do not prove monotone volume growth; two alternations (the default) already give
+// regions that reach the nearby obstacles (test: RegionGrowsIntoFreeSpace). Interior occupied
+// cells are skipped when clearance_m >= 2 cells, and each polytope is limited to its seed's box
+// plus box_margin_m, which keeps the cost near-linear in the path length.
 // Guarantees by construction: the seed segment lies in its polytope, every obstacle point is at
 // least clearance_m (or the reduced clearance) outside it, and consecutive polytopes share the
 // path vertex between their seeds, so they overlap.
@@ -31,9 +38,9 @@ struct Polytope {
   Eigen::Matrix<double, Eigen::Dynamic, 3> A;  ///< unit outward normals, one per row
   Eigen::VectorXd b;
   Eigen::Vector3d seed_start_m = Eigen::Vector3d::Zero(), seed_end_m = Eigen::Vector3d::Zero();
-  /// The ellipsoid E = {C u + d, |u| <= 1} of the last half-space step (inside the polytope
-  /// whenever iterations >= 2, since it is then the previous polytope's inscribed ellipsoid and
-  /// planes never cut into it... except seed-protecting ones; see violation of its support).
+  /// The ellipsoid E = {C u + d, |u| <= 1} that ordered the last half-space step (the previous
+  /// polytope's inscribed ellipsoid). Tangent planes keep it inside; a seed-protecting plane may
+  /// cut it, so it is a shape hint for visualisation, not a guaranteed inner region.
   Eigen::Matrix3d ellipsoid_C = Eigen::Matrix3d::Identity();
   Eigen::Vector3d ellipsoid_d = Eigen::Vector3d::Zero();
   bool clearance_reduced = false;

@@ -9,7 +9,9 @@
 // minimised by our L-BFGS. Penalties bind slightly inside the limits (penalty_*_fraction) so that
 // the final feasibility check, which samples the result densely (inside the union of the
 // corridor's polytopes, |v| <= v_max * (1 + velocity_tolerance), |a| <= a_max), passes. A result
-// that fails the check is retried with 10x penalty weights, then refused (never returned).
+// that fails the check is retried from where it stopped with 10x penalty weights, twice the
+// samples per piece and a 100x tighter stopping tolerance (max_retries times), then refused
+// (never returned).
 #pragma once
 
 #include <Eigen/Core>
@@ -27,13 +29,13 @@ struct TrajOptConfig {
   double v_max_mps = 4.0;
   double a_max_mps2 = 6.0;
   double weight_time = 512.0;
-  double weight_corridor = 1e4;
+  double weight_corridor = 1e5;
   double weight_velocity = 1e4;
   double weight_acceleration = 1e4;
   double smoothing_eps = 1e-2;  ///< width of the smoothed-L1 knee
   double penalty_velocity_fraction = 0.97;
   double penalty_acceleration_fraction = 0.95;
-  double corridor_margin_m = 0.02;  ///< penalties keep samples this far inside
+  double corridor_margin_m = 0.05;  ///< penalties keep samples this far inside
   int samples_per_piece = 12;
   double max_piece_length_m = 3.0;  ///< long seeds get several pieces in their polytope
   double initial_speed_fraction = 0.6;
@@ -79,6 +81,7 @@ class MincoCorridorCost {
   /// x = [q (3 x N-1, column-major); tau (N)].
   double operator()(const Eigen::VectorXd& x, Eigen::VectorXd& grad);
   void setPenaltyScale(double s) { penalty_scale_ = s; }
+  void setSampleFactor(int f) { sample_factor_ = f; }
   Eigen::VectorXd pack(const Eigen::Matrix3Xd& q, const Eigen::VectorXd& T) const;
   void unpack(const Eigen::VectorXd& x, Eigen::Matrix3Xd* q, Eigen::VectorXd* T) const;
   MincoS3& minco() { return minco_; }
@@ -92,6 +95,7 @@ class MincoCorridorCost {
   int n_;
   MincoS3 minco_;
   double penalty_scale_ = 1.0;
+  int sample_factor_ = 1;
   Eigen::MatrixXd gc_;
   Eigen::VectorXd gT_, gT_total_;
   Eigen::Matrix3Xd q_, gq_;
