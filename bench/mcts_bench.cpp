@@ -11,18 +11,19 @@
 // ILS runs). Paper (Ryzen 7 8845H): 100 % at 20 and 50 nodes, 96.46 / 99.18 / 99.89 % at 100 nodes;
 // 100 nodes / 20 iterations 860 ms sequential, 245 ms with 4 threads. Target: the same
 // optimality in at most a fifth of those times.
-// Usage: mcts_bench [instances=5] [family=uniform|geometric]
+// Usage: mcts_bench [instances=5] [family=uniform|geometric]   |   mcts_bench cycle
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <cstdlib>
+#include <ctime>
 #include <random>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "prior_guided_planner/hierarchical_planner.h"
 #include "prior_guided_planner/mcts_sequencer.h"
 
 using namespace efs::planner;
@@ -78,16 +79,90 @@ double timeMs(const MctsSequencer& s, const MctsProblem& p, MctsResult* out, dou
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// One whole planning cycle (issue 5 target: < 50 ms median on one core with 30 guidepoints, 3
+// hypotheses, 150 viewpoints; map update and path searches excluded: L is a cheap oracle here).
+// Sketch: a 6 x 5 grid of corridors, guidepoints 20 m apart, PRM = grid distance. Hypotheses:
+// the truth, a slightly wrong one, a rotated one; viewpoints uniform over the true map.
+void planningCycleTable(int runs) {
+  GuidepointPrior prior;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 5; ++j) {
+      prior.ids.push_back(static_cast<uint32_t>(prior.ids.size()));
+      prior.positions_sketch_m.emplace_back(20.0 * i, 20.0 * j);
+    }
+  const int ng = prior.size();
+  prior.prm_distance_m = CostMatrix(ng);
+  for (int a = 0; a < ng; ++a)
+    for (int b = 0; b < ng; ++b)
+      prior.prm_distance_m(a, b) =
+          (prior.positions_sketch_m[a] - prior.positions_sketch_m[b]).lpNorm<1>();
+  const efs::Sim2 truth(0.3, 1.0, {5.0, 3.0});
+  std::vector<Hypothesis> hyps = {Hypothesis{1, truth, 0.6},
+                                  Hypothesis{2, efs::Sim2(0.35, 1.05, {7.0, 1.0}), 0.3},
+                                  Hypothesis{3, efs::Sim2(0.3 + M_PI / 2, 0.9, {60.0, 0.0}), 0.1}};
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> ux(-5.0, 105.0), uy(-5.0, 85.0), uyaw(-M_PI, M_PI);
+  PlanningInput in;
+  in.robot.position_world_m = {5.0, 3.0, 1.0};
+  for (int i = 0; i < 150; ++i) {
+    const Eigen::Vector2d p = truth.apply(Eigen::Vector2d(ux(rng), uy(rng)));
+    in.viewpoints.push_back(PlanViewpoint{i, {p.x(), p.y(), 1.0}, uyaw(rng)});
+  }
+  const auto vps = in.viewpoints;
+  const Eigen::Vector3d robot = in.robot.position_world_m;
+  in.path_length_m = [vps, robot](int a, int b) {
+    const Eigen::Vector3d pa = a == kRobotNode ? robot : vps[a].position_world_m;
+    const Eigen::Vector3d pb = b == kRobotNode ? robot : vps[b].position_world_m;
+    return 1.2 * (pa - pb).norm();
+  };
+  in.prior = &prior;
+  in.hypotheses = hyps;
+  std::printf(
+      "\nWhole planning cycle (30 guidepoints, 3 hypotheses, 150 viewpoints, MCTS 20 "
+      "iterations)\n");
+  std::printf(
+      "| threads | median wall / ms | median CPU / ms | tour viewpoints | target group size |\n");
+  std::printf("|---|---|---|---|---|\n");
+  for (int threads : {1, 2}) {
+    HierarchicalPlannerConfig cfg;
+    cfg.mcts.threads = threads;
+    const HierarchicalPlanner planner(cfg);
+    std::vector<double> wall, cpu;
+    PlanningResult r;
+    for (int k = 0; k < runs; ++k) {
+      const std::clock_t c0 = std::clock();
+      const auto t0 = std::chrono::steady_clock::now();
+      r = planner.plan(in);
+      cpu.push_back(1000.0 * static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
+      wall.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(wall.begin(), wall.end());
+    std::sort(cpu.begin(), cpu.end());
+    std::printf("| %d | %.2f | %.2f | %zu | %zu |\n", threads, wall[wall.size() / 2],
+                cpu[cpu.size() / 2], r.tour.viewpoints.size(),
+                r.selection.target_viewpoints.size());
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 1 && std::string(argv[1]) == "cycle") {
+    planningCycleTable(11);
+    return 0;
+  }
   const int instances = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
   const bool geometric = argc > 2 && std::string(argv[2]) == "geometric";
-  std::printf("MCTS solver test: %d random instances per size (%s costs), 10%% attached, "
-              "reference = 500 iterations, hardware threads = %u\n",
-              instances, geometric ? "geometric" : "uniform", std::thread::hardware_concurrency());
+  std::printf(
+      "MCTS solver test: %d random instances per size (%s costs), 10%% attached, "
+      "reference = 500 iterations, hardware threads = %u\n",
+      instances, geometric ? "geometric" : "uniform", std::thread::hardware_concurrency());
   for (int n : {20, 50, 100}) {
-    std::printf("\n| %d nodes | optimality (mean) | optimality (min) | vs best known | 1 thread wall / ms | 1 thread CPU / ms | 4 threads wall / ms | rollouts |\n", n);
+    std::printf(
+        "\n| %d nodes | optimality (mean) | optimality (min) | vs best known | 1 thread wall / ms "
+        "| 1 thread CPU / ms | 4 threads wall / ms | rollouts |\n",
+        n);
     std::printf("|---|---|---|---|---|---|---|---|\n");
     std::vector<MctsProblem> problems;
     std::vector<double> ref, best_known;
@@ -119,10 +194,10 @@ int main(int argc, char** argv) {
       }
       std::printf("| %d iters | %.2f %% | %.2f %% | %.2f %% | %.2f | %.2f | %.2f | %.0f |\n", iters,
                   100.0 * opt_sum / instances, 100.0 * opt_min, 100.0 * bk_sum / instances,
-                  t1 / instances, c1 / instances,
-                  t4 / instances, rollouts / instances);
+                  t1 / instances, c1 / instances, t4 / instances, rollouts / instances);
       std::fflush(stdout);
     }
   }
+  planningCycleTable(11);
   return 0;
 }

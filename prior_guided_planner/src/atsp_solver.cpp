@@ -53,7 +53,8 @@ Work makeWork(const CostMatrix& c, int extra_nodes) {
   wk.big = (wk.n + 1.0) * (2.0 * max_abs + 1.0);
   wk.w.assign(static_cast<size_t>(wk.n) * wk.n, 0.0);
   for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) wk.at(i, j) = (i == j) ? 0.0 : (c.reachable(i, j) ? c(i, j) : wk.big);
+    for (int j = 0; j < n; ++j)
+      wk.at(i, j) = (i == j) ? 0.0 : (c.reachable(i, j) ? c(i, j) : wk.big);
   return wk;
 }
 
@@ -145,8 +146,10 @@ Assignment solveAssignment(const Work& wk) {
         if (minv[j] < delta) delta = minv[j], j1 = j;
       }
       for (int j = 0; j <= n; ++j) {
-        if (used[j]) u[p[j]] += delta, v[j] -= delta;
-        else minv[j] -= delta;
+        if (used[j])
+          u[p[j]] += delta, v[j] -= delta;
+        else
+          minv[j] -= delta;
       }
       j0 = j1;
     } while (p[j0] != 0);
@@ -179,14 +182,16 @@ std::vector<int> patchCycles(const Work& wk, std::vector<int> succ) {
       sizes.push_back(len);
     }
     if (sizes.size() <= 1) break;
-    const int small = static_cast<int>(std::min_element(sizes.begin(), sizes.end()) - sizes.begin());
+    const int small =
+        static_cast<int>(std::min_element(sizes.begin(), sizes.end()) - sizes.begin());
     double best = std::numeric_limits<double>::infinity();
     int bi = -1, bj = -1;
     for (int i = 0; i < n; ++i) {
       if (cyc[i] != small) continue;
       for (int j = 0; j < n; ++j) {
         if (cyc[j] == small) continue;
-        const double dlt = wk.at(i, succ[j]) + wk.at(j, succ[i]) - wk.at(i, succ[i]) - wk.at(j, succ[j]);
+        const double dlt =
+            wk.at(i, succ[j]) + wk.at(j, succ[i]) - wk.at(i, succ[i]) - wk.at(j, succ[j]);
         if (dlt < best) best = dlt, bi = i, bj = j;
       }
     }
@@ -214,11 +219,13 @@ class LocalSearch {
       int q = 0;
       for (int j = 0; j < n_; ++j)
         if (j != i) idx[q++] = j;
-      std::partial_sort(idx.begin(), idx.begin() + k_, idx.end(),
-                        [&](int a, int b) { return r(i, a) < r(i, b) || (r(i, a) == r(i, b) && a < b); });
+      std::partial_sort(idx.begin(), idx.begin() + k_, idx.end(), [&](int a, int b) {
+        return r(i, a) < r(i, b) || (r(i, a) == r(i, b) && a < b);
+      });
       std::copy(idx.begin(), idx.begin() + k_, nout_.begin() + static_cast<size_t>(i) * k_);
-      std::partial_sort(idx.begin(), idx.begin() + k_, idx.end(),
-                        [&](int a, int b) { return r(a, i) < r(b, i) || (r(a, i) == r(b, i) && a < b); });
+      std::partial_sort(idx.begin(), idx.begin() + k_, idx.end(), [&](int a, int b) {
+        return r(a, i) < r(b, i) || (r(a, i) == r(b, i) && a < b);
+      });
       std::copy(idx.begin(), idx.begin() + k_, nin_.begin() + static_cast<size_t>(i) * k_);
     }
     inq_.assign(n_, 0);
@@ -276,9 +283,18 @@ class LocalSearch {
 
  private:
   double d(int a, int b) const { return w_[static_cast<size_t>(a) * n_ + b]; }
-  int succ(int x) const { const int p = pos_[x] + 1; return tour_[p == n_ ? 0 : p]; }
-  int pred(int x) const { const int p = pos_[x] - 1; return tour_[p < 0 ? n_ - 1 : p]; }
-  int off(int a, int x) const { const int o = pos_[x] - pos_[a]; return o < 0 ? o + n_ : o; }
+  int succ(int x) const {
+    const int p = pos_[x] + 1;
+    return tour_[p == n_ ? 0 : p];
+  }
+  int pred(int x) const {
+    const int p = pos_[x] - 1;
+    return tour_[p < 0 ? n_ - 1 : p];
+  }
+  int off(int a, int x) const {
+    const int o = pos_[x] - pos_[a];
+    return o < 0 ? o + n_ : o;
+  }
   void push(int x) {
     if (!inq_[x]) inq_[x] = 1, queue_.push_back(x);
   }
@@ -291,7 +307,10 @@ class LocalSearch {
     const int a1 = succ(a), b = pred(bp), c1 = succ(c);
     cost_ -= swapGain(a, bp, c);
     const int pa = pos_[a], ob = off(a, bp), oc = off(a, c);
-    auto at = [&](int o) { const int p = pa + o; return tour_[p >= n_ ? p - n_ : p]; };
+    auto at = [&](int o) {
+      const int p = pa + o;
+      return tour_[p >= n_ ? p - n_ : p];
+    };
     int q = 0;
     tmp_[q++] = a;
     for (int o = ob; o <= oc; ++o) tmp_[q++] = at(o);
@@ -310,7 +329,10 @@ class LocalSearch {
     const double eps = 1e-9 * (1.0 + std::abs(cost_) / n_);
     const int* out = &nout_[static_cast<size_t>(a) * k_];
     const int* in_a1 = &nin_[static_cast<size_t>(a1) * k_];
-    auto offset = [&](int x) { const int o = pos_[x] - pa; return o < 0 ? o + n_ : o; };
+    auto offset = [&](int x) {
+      const int o = pos_[x] - pa;
+      return o < 0 ? o + n_ : o;
+    };
     // 3-opt segment swap: the new edge a->bp is cheaper than a->a1 (positive first gain).
     for (int t = 0; t < k_; ++t) {
       const int bp = out[t];
@@ -379,7 +401,8 @@ std::vector<int> iteratedLocalSearch(const Work& wk, const AtspConfig& cfg, uint
   ls.optimise();
   std::vector<int> best = ls.tour(), saved;
   double best_cost = ls.cost();
-  const int kicks = std::clamp(static_cast<int>(cfg.kicks_per_node * n), cfg.min_kicks, cfg.max_kicks);
+  const int kicks =
+      std::clamp(static_cast<int>(cfg.kicks_per_node * n), cfg.min_kicks, cfg.max_kicks);
   std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull);
   double cur = best_cost;
   for (int k = 0; k < kicks; ++k) {
@@ -439,10 +462,12 @@ AtspResult AtspSolver::solveOpenPath(const CostMatrix& c, int start, int end, ui
   if (initial_order) {
     std::vector<int> chk = *initial_order;
     std::sort(chk.begin(), chk.end());
-    bool ok = static_cast<int>(chk.size()) == n && !chk.empty() && initial_order->front() == start &&
-              (end == kFreeEnd || initial_order->back() == end);
+    bool ok = static_cast<int>(chk.size()) == n && !chk.empty() &&
+              initial_order->front() == start && (end == kFreeEnd || initial_order->back() == end);
     for (int i = 0; ok && i < n; ++i) ok = chk[i] == i;
-    if (!ok) throw std::invalid_argument("AtspSolver::solveOpenPath: initial order is not a path from start");
+    if (!ok)
+      throw std::invalid_argument(
+          "AtspSolver::solveOpenPath: initial order is not a path from start");
   }
   AtspResult r;
   r.exact = n <= config_.exact_max_nodes;

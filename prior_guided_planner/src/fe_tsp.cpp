@@ -44,7 +44,8 @@ CostMatrix buildFeTspMatrix(const RobotPose& robot, const std::vector<PlanViewpo
       const double lab = path_length_m(selected[a], selected[b]);
       c(a + 1, b + 1) = lab < kUnreachable ? lab / config.v_max_mps : kUnreachable;
     }
-    if (term) c(a + 1, t) = (va.position_world_m.head<2>() - *terminal_world_m).norm() / config.v_max_mps;
+    if (term)
+      c(a + 1, t) = (va.position_world_m.head<2>() - *terminal_world_m).norm() / config.v_max_mps;
   }
   if (term) {
     c(t, dv) = 0.0;

@@ -10,7 +10,8 @@ namespace efs::planner {
 void HierarchicalPlannerConfig::validate() const {
   requireThat(mode == BaselineMode::kProposed || mode == BaselineMode::kPriorFree ||
                   mode == BaselineMode::kNearestFrontier,
-              "mode", "'" + toString(mode) + "' is not implemented by the hierarchical planner core");
+              "mode",
+              "'" + toString(mode) + "' is not implemented by the hierarchical planner core");
   attachment.validate();
   sequencing.validate();
   mcts.validate();
@@ -76,8 +77,8 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) const {
                                                  in.bounds_world_m, config_.attachment));
       HypothesisSequence hs;
       hs.confidence = h.confidence;
-      hs.problem = buildGuidepointProblem(res.attachments.back(), *in.prior,
-                                          h.T_world_sketch.scale, robot_len, config_.sequencing);
+      hs.problem = buildGuidepointProblem(res.attachments.back(), *in.prior, h.T_world_sketch.scale,
+                                          robot_len, config_.sequencing);
       MctsConfig mc = config_.mcts;
       mc.seed = config_.mcts.seed + 7919 * k;
       hs.mcts = MctsSequencer(mc).solve(hs.problem.problem);
@@ -91,9 +92,9 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) const {
         std::optional<Eigen::Vector2d> terminal;
         if (res.selection.guidepoint_sequence.size() >= 2)
           terminal = res.attachments[hk].guidepoints_world_m[res.selection.guidepoint_sequence[1]];
-        res.tour = solveFeTsp(in.robot, in.viewpoints, res.selection.isolated_viewpoints,
-                              res.selection.target_viewpoints, terminal, in.path_length_m,
-                              config_.fe_tsp);
+        res.tour =
+            solveFeTsp(in.robot, in.viewpoints, res.selection.isolated_viewpoints,
+                       res.selection.target_viewpoints, terminal, in.path_length_m, config_.fe_tsp);
         res.mode_used = BaselineMode::kProposed;
         res.active_hypothesis_id = in.hypotheses[res.used_hypotheses[hk]].id;
         if (!res.tour.viewpoints.empty()) return res;

@@ -61,7 +61,7 @@ struct Rollout {
 AtspConfig rootConfig(const MctsConfig& c) {
   AtspConfig a = c.rollout;
   a.assignment_start = true;
-  a.kicks_per_node = std::max(c.rollout.kicks_per_node, 5.0);
+  a.kicks_per_node = std::max(c.rollout.kicks_per_node, 15.0);
   return a;
 }
 
@@ -97,9 +97,9 @@ class Search {
         backprop(cur, reward(nodes_[cur].prefix_len));
         continue;
       }
-      const size_t take = (it == 0 && cur == 0)
-                              ? nodes_[cur].untried.size()
-                              : std::min<size_t>(c_.rollouts_per_iteration, nodes_[cur].untried.size());
+      const size_t take = (it == 0 && cur == 0) ? nodes_[cur].untried.size()
+                                                : std::min<size_t>(c_.rollouts_per_iteration,
+                                                                   nodes_[cur].untried.size());
       std::vector<int> fresh;
       for (size_t k = 0; k < take; ++k) {
         Node child;
@@ -169,7 +169,7 @@ class Search {
     }
     const AtspSolver& solver = warm.empty() ? root_solver_ : solver_;
     const AtspResult a = solver.solveOpenPath(sub, 0, AtspSolver::kFreeEnd, mix(c_.seed, node),
-                                               warm.empty() ? nullptr : &warm);
+                                              warm.empty() ? nullptr : &warm);
     for (size_t q = 1; q < a.order.size(); ++q) r.sequence.push_back(idx[a.order[q]]);
     r.length = nodes_[node].prefix_len + a.cost;
     return r;

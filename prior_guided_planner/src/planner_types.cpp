@@ -24,10 +24,9 @@ void GuidepointPrior::validate() const {
     throw std::invalid_argument("GuidepointPrior: " + std::to_string(ids.size()) + " ids for " +
                                 std::to_string(n) + " guidepoints");
   if (prm_distance_m.size() != n)
-    throw std::invalid_argument("GuidepointPrior: PRM matrix is " +
-                                std::to_string(prm_distance_m.size()) + " x " +
-                                std::to_string(prm_distance_m.size()) + " for " +
-                                std::to_string(n) + " guidepoints");
+    throw std::invalid_argument(
+        "GuidepointPrior: PRM matrix is " + std::to_string(prm_distance_m.size()) + " x " +
+        std::to_string(prm_distance_m.size()) + " for " + std::to_string(n) + " guidepoints");
   for (int i = 0; i < n; ++i) {
     if (!positions_sketch_m[i].allFinite())
       throw std::invalid_argument("GuidepointPrior: guidepoint " + std::to_string(i) +
@@ -43,10 +42,14 @@ void GuidepointPrior::validate() const {
 
 std::string toString(BaselineMode mode) {
   switch (mode) {
-    case BaselineMode::kProposed: return "proposed";
-    case BaselineMode::kPriorFree: return "prior_free";
-    case BaselineMode::kGreedyPrior: return "greedy_prior";
-    case BaselineMode::kNearestFrontier: return "nearest_frontier";
+    case BaselineMode::kProposed:
+      return "proposed";
+    case BaselineMode::kPriorFree:
+      return "prior_free";
+    case BaselineMode::kGreedyPrior:
+      return "greedy_prior";
+    case BaselineMode::kNearestFrontier:
+      return "nearest_frontier";
   }
   return "unknown";
 }

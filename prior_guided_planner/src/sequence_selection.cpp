@@ -21,10 +21,9 @@ GuidepointProblem buildGuidepointProblem(const HypothesisAttachment& att,
   if (!(scale > 0.0) || !std::isfinite(scale))
     throw std::invalid_argument("buildGuidepointProblem: scale must be finite and > 0");
   if (robot_to_viewpoint_m.size() != att.attached_to.size())
-    throw std::invalid_argument("buildGuidepointProblem: " +
-                                std::to_string(robot_to_viewpoint_m.size()) +
-                                " robot path lengths for " +
-                                std::to_string(att.attached_to.size()) + " viewpoints");
+    throw std::invalid_argument(
+        "buildGuidepointProblem: " + std::to_string(robot_to_viewpoint_m.size()) +
+        " robot path lengths for " + std::to_string(att.attached_to.size()) + " viewpoints");
   GuidepointProblem out;
   out.node_guidepoint.push_back(-1);
   for (int j = 0; j < prior.size(); ++j)
@@ -201,8 +200,9 @@ PriorSelection selectPriorSequence(const std::vector<ViewpointGroup>& groups,
   if (best >= 0) {
     const HypothesisSequence& hs = sequences[best];
     sel.hypothesis = best;
-    sel.guidepoint_sequence =
-        toGuidepoints(hs.problem, hs.mcts.best_sequence_by_first[problemNode(hs.problem, groups[sel.group].key[best])]);
+    sel.guidepoint_sequence = toGuidepoints(
+        hs.problem,
+        hs.mcts.best_sequence_by_first[problemNode(hs.problem, groups[sel.group].key[best])]);
   }
   return sel;
 }

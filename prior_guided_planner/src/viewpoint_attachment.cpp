@@ -16,10 +16,14 @@ void AttachmentConfig::validate() const {
 
 const char* toString(GuidepointState s) {
   switch (s) {
-    case GuidepointState::kUnexplored: return "unexplored";
-    case GuidepointState::kExploring: return "exploring";
-    case GuidepointState::kExplored: return "explored";
-    case GuidepointState::kOutside: return "outside";
+    case GuidepointState::kUnexplored:
+      return "unexplored";
+    case GuidepointState::kExploring:
+      return "exploring";
+    case GuidepointState::kExplored:
+      return "explored";
+    case GuidepointState::kOutside:
+      return "outside";
   }
   return "unknown";
 }
@@ -43,7 +47,8 @@ HypothesisAttachment attachViewpoints(const Hypothesis& hypothesis, const Guidep
   for (int j = 0; j < ng; ++j) {
     out.guidepoints_world_m[j] = hypothesis.T_world_sketch.apply(prior.positions_sketch_m[j]);
     if (bounds_world_m && !bounds_world_m->isEmpty()) {
-      const double d = std::sqrt(bounds_world_m->squaredExteriorDistance(out.guidepoints_world_m[j]));
+      const double d =
+          std::sqrt(bounds_world_m->squaredExteriorDistance(out.guidepoints_world_m[j]));
       if (d > config.outside_margin_m) out.states[j] = GuidepointState::kOutside, active[j] = 0;
     }
   }
@@ -54,8 +59,10 @@ HypothesisAttachment attachViewpoints(const Hypothesis& hypothesis, const Guidep
     for (int j = 0; j < ng; ++j) {
       if (!active[j]) continue;
       const double d = (out.guidepoints_world_m[j] - p).norm();
-      if (d < d1) d2 = d1, d1 = d, j1 = j;
-      else if (d < d2) d2 = d;
+      if (d < d1)
+        d2 = d1, d1 = d, j1 = j;
+      else if (d < d2)
+        d2 = d;
     }
     if (j1 >= 0 && d1 < std::min(config.rho_m, d2)) {
       out.attached_to[i] = j1;
@@ -66,9 +73,8 @@ HypothesisAttachment attachViewpoints(const Hypothesis& hypothesis, const Guidep
     if (!active[j]) continue;
     if (!out.attached[j].empty()) {
       out.states[j] = GuidepointState::kExploring;
-    } else if (observation &&
-               observation(out.guidepoints_world_m[j], config.influence_radius_m) ==
-                   ObservationLevel::kWellObserved) {
+    } else if (observation && observation(out.guidepoints_world_m[j], config.influence_radius_m) ==
+                                  ObservationLevel::kWellObserved) {
       out.states[j] = GuidepointState::kExplored;
     }
   }

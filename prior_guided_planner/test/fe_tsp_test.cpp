@@ -109,11 +109,11 @@ TEST(FeTsp, TerminalPullsTheTourEnd) {
   RobotPose robot;
   std::vector<PlanViewpoint> v;
   for (int i = 0; i < 6; ++i) v.push_back(PlanViewpoint{i, {-10.0 + 4.0 * i, 0.0, 1.0}, 0.0});
-  const LocalTour t =
-      solveFeTsp(robot, v, {}, {0, 1, 2, 3, 4, 5}, Eigen::Vector2d(100, 0), euclidean(robot, v), {});
+  const LocalTour t = solveFeTsp(robot, v, {}, {0, 1, 2, 3, 4, 5}, Eigen::Vector2d(100, 0),
+                                 euclidean(robot, v), {});
   EXPECT_EQ(t.viewpoints.back(), 5);
-  const LocalTour back =
-      solveFeTsp(robot, v, {}, {0, 1, 2, 3, 4, 5}, Eigen::Vector2d(-100, 0), euclidean(robot, v), {});
+  const LocalTour back = solveFeTsp(robot, v, {}, {0, 1, 2, 3, 4, 5}, Eigen::Vector2d(-100, 0),
+                                    euclidean(robot, v), {});
   EXPECT_EQ(back.viewpoints.back(), 0);
 }
 
@@ -132,9 +132,7 @@ TEST(FeTsp, UnreachableViewpointsAreLeftOutAndReported) {
   RobotPose robot;
   const auto v = randomViewpoints(6, 3);
   const auto e = euclidean(robot, v);
-  const PathLengthFn L = [e](int a, int b) {
-    return (a == 2 || b == 2) ? kUnreachable : e(a, b);
-  };
+  const PathLengthFn L = [e](int a, int b) { return (a == 2 || b == 2) ? kUnreachable : e(a, b); };
   const LocalTour t = solveFeTsp(robot, v, {0, 1}, {2, 3, 4, 5}, Eigen::Vector2d(5, 5), L, {});
   EXPECT_EQ(t.unreachable_viewpoints, std::vector<int>{2});
   EXPECT_EQ(t.viewpoints.size(), 5u);
@@ -153,7 +151,8 @@ TEST(FeTsp, PriorFreeVisitsAllAndIsOptimalOnSmallScenes) {
   ASSERT_EQ(t.viewpoints.size(), 7u);
   std::vector<int> p(7);
   for (int i = 0; i < 7; ++i) p[i] = i;
-  const CostMatrix c = buildFeTspMatrix(robot, v, p, std::vector<bool>(7, false), std::nullopt, L, {});
+  const CostMatrix c =
+      buildFeTspMatrix(robot, v, p, std::vector<bool>(7, false), std::nullopt, L, {});
   double best = kUnreachable;
   do {
     double s = c(0, p[0] + 1);

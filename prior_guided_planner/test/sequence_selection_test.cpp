@@ -132,13 +132,14 @@ TEST(SequenceSelection, GuidepointProblemCosts) {
   const GuidepointProblem p = buildGuidepointProblem(a, prior, 2.0, robot_len, SequencingConfig{});
   EXPECT_EQ(p.node_guidepoint, (std::vector<int>{-1, 0, 2, 3}));
   EXPECT_EQ(p.problem.exploring, (std::vector<bool>{false, true, true, false}));
-  EXPECT_NEAR(p.problem.cost(0, 1), 6.0, 1e-12);      // mean of 4 and 8
-  EXPECT_EQ(p.problem.cost(0, 2), kUnreachable);      // its only viewpoint is unreachable
-  EXPECT_EQ(p.problem.cost(0, 3), kUnreachable);      // unexplored: not from the root
-  EXPECT_NEAR(p.problem.cost(1, 2), 2.0 * 24.0, 1e-12);  // scale * PRM
+  EXPECT_NEAR(p.problem.cost(0, 1), 6.0, 1e-12);               // mean of 4 and 8
+  EXPECT_EQ(p.problem.cost(0, 2), kUnreachable);               // its only viewpoint is unreachable
+  EXPECT_EQ(p.problem.cost(0, 3), kUnreachable);               // unexplored: not from the root
+  EXPECT_NEAR(p.problem.cost(1, 2), 2.0 * 24.0, 1e-12);        // scale * PRM
   EXPECT_NEAR(p.problem.cost(1, 3), 2.0 * 3.0 * 30.0, 1e-12);  // unconnected: penalised line
   EXPECT_EQ(p.problem.cost(2, 0), 0.0);
-  EXPECT_THROW(buildGuidepointProblem(a, prior, std::nan(""), robot_len, {}), std::invalid_argument);
+  EXPECT_THROW(buildGuidepointProblem(a, prior, std::nan(""), robot_len, {}),
+               std::invalid_argument);
   EXPECT_THROW(buildGuidepointProblem(a, prior, -1.0, robot_len, {}), std::invalid_argument);
 }
 

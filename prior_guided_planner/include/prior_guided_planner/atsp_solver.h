@@ -3,9 +3,9 @@
 // The in-house asymmetric TSP solver (LKH may not be used: research-only licence).
 //  - Exact Held-Karp dynamic programming up to `exact_max_nodes` nodes.
 //  - Above that, iterated local search: start from the assignment relaxation (Hungarian
-//    method) with its cycles patched together, candidate lists by reduced cost, a reversal-free local search
-//    (segment swap = orientation-preserving 3-opt, which contains Or-opt, searched over
-//    candidate neighbour lists with a work queue of "dirty" nodes) and random double-bridge
+//    method) with its cycles patched together, candidate lists by reduced cost, a reversal-free
+//    local search (segment swap = orientation-preserving 3-opt, which contains Or-opt, searched
+//    over candidate neighbour lists with a work queue of "dirty" nodes) and random double-bridge
 //    kicks (the orientation-preserving segment swap over random cuts), accepting equal or
 //    better tours. Reversal-free moves keep the cost of every untouched edge, which is what
 //    makes them safe on asymmetric matrices.

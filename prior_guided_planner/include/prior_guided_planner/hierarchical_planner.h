@@ -42,8 +42,8 @@ struct PlanningInput {
 
 enum class PlanningStatus {
   kOk,
-  kNoViewpoints,           ///< nothing left to explore: the caller terminates
-  kNoReachableViewpoint,   ///< viewpoints exist but the robot reaches none of them
+  kNoViewpoints,          ///< nothing left to explore: the caller terminates
+  kNoReachableViewpoint,  ///< viewpoints exist but the robot reaches none of them
 };
 
 struct RejectedHypothesis {

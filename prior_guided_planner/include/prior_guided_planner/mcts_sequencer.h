@@ -36,7 +36,7 @@ struct MctsConfig {
 
   MctsConfig() {
     rollout.kicks_per_node = 0.5;
-    rollout.min_kicks = 10;
+    rollout.min_kicks = 30;
   }
   void validate() const;
 };

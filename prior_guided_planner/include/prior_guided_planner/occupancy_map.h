@@ -8,6 +8,9 @@
 // scan (a per-cell scan stamp), and hits win over misses within one scan, as in OctoMap.
 // Inflation by the vehicle radius is a query (isSafe), not a stored layer, so it never has to be
 // undone when a cell is cleared. Cell boundaries follow efs::toVoxelKey.
+// The scan stamp is 8 bits: a cell left alone for exactly a multiple of 255 scans skips one
+// update in the next scan that reaches it (harmless: one observation of many).
+// Const queries may run concurrently; insertScan needs exclusive access.
 #pragma once
 
 #include <Eigen/Core>

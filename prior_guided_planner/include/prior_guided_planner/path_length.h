@@ -15,6 +15,7 @@
 //    After each OccupancyMap::insertScan call sync(): an entry is dropped when a block changed
 //    inside its path's box (plus one block), and every "unreachable" entry is dropped when the
 //    scan added free space. If several scans went by unseen, everything is dropped.
+//  - Neither class is thread-safe (both memoise); the planner calls L from one thread.
 #pragma once
 
 #include <Eigen/Core>
