@@ -1,0 +1,60 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// ROS face of the simulator: it owns the simulated time (publishes /clock for use_sim_time
+// graphs), steps the same Simulator the benchmarks step in-process, and publishes FAST-LIO2-shaped
+// output. Commands arrive as SO3Command (MARSIM style) or AttitudeTarget (PX4 through mavros).
+#pragma once
+
+#include <explore_from_sketch/AttitudeTarget.h>
+#include <explore_from_sketch/SO3Command.h>
+#include <ros/ros.h>
+
+#include <memory>
+#include <string>
+
+#include "marsim_worlds/simulator.h"
+#include "marsim_worlds/voxel_world.h"
+#include "marsim_worlds/world_source.h"
+
+namespace efs::sim {
+
+struct MarsimNodeConfig {
+  WorldSource world;
+  int start_index = 0;            ///< which of the world's start poses
+  double real_time_factor = 1.0;  ///< simulated s per wall s; 0 = as fast as possible
+  double step_s = 0.01;           ///< simulated time advanced per loop
+  double max_duration_s = 0.0;    ///< stop after this simulated time; 0 = never
+  bool publish_clock = true;
+  bool publish_twist = false;  ///< FAST-LIO2's /Odometry carries no twist
+  std::string lio_frame = "camera_init";
+  std::string body_frame = "body";
+  double status_rate_hz = 10.0;
+  bool coverage_enabled = true;
+  double coverage_sample_spacing_m = 3.0;  ///< free-space samples for the observable surface
+  SimulatorConfig sim;
+};
+
+MarsimNodeConfig loadMarsimNodeConfig(const ros::NodeHandle& private_nh);
+
+class MarsimNode {
+ public:
+  MarsimNode(ros::NodeHandle nh, const MarsimNodeConfig& config);
+  /// Runs until ROS shuts down (or max_duration_s of simulated time).
+  void run();
+
+ private:
+  void onSo3(const explore_from_sketch::SO3Command::ConstPtr& msg);
+  void onAttitude(const explore_from_sketch::AttitudeTarget::ConstPtr& msg);
+  void publishOutputs(double wall_elapsed_s);
+
+  MarsimNodeConfig config_;
+  VoxelWorld world_;
+  std::unique_ptr<Simulator> sim_;
+  ros::Subscriber so3_sub_, attitude_sub_;
+  ros::Publisher cloud_pub_, odom_pub_, truth_pub_, status_pub_, clock_pub_;
+  uint64_t last_odom_seq_ = 0, last_scan_seq_ = 0;
+  double next_status_s_ = 0.0;
+  bool collision_reported_ = false;
+};
+
+}  // namespace efs::sim

@@ -1,0 +1,239 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "marsim_worlds_ros/marsim_node.h"
+
+#include <explore_from_sketch/SimulatorStatus.h>
+#include <nav_msgs/Odometry.h>
+#include <rosgraph_msgs/Clock.h>
+#include <sensor_msgs/PointCloud2.h>
+
+#include <algorithm>
+#include <chrono>
+#include <thread>
+
+#include "efs_common/resource_usage.h"
+#include "efs_common_ros/cloud_conversions.h"
+#include "efs_common_ros/param_reader.h"
+#include "marsim_worlds/coverage.h"
+#include "marsim_worlds_ros/topics.h"
+
+namespace efs::sim {
+
+MarsimNodeConfig loadMarsimNodeConfig(const ros::NodeHandle& private_nh) {
+  ros_common::ParamReader p(private_nh);
+  MarsimNodeConfig c;
+  p.get("world_kind", c.world.kind);
+  p.get("world_size", c.world.size);
+  int seed = static_cast<int>(c.world.seed);
+  p.get("world_seed", seed);
+  requireInRange("world_seed", seed, 0, 1 << 30);
+  c.world.seed = static_cast<uint64_t>(seed);
+  p.get("world_resolution_m", c.world.resolution_m);
+  p.get("world_sdf", c.world.sdf_path);
+  p.get("world_mesh", c.world.mesh_path);
+  p.get("world_pcd", c.world.pcd_path);
+  p.get("start_index", c.start_index);
+  p.get("real_time_factor", c.real_time_factor);
+  p.get("step_s", c.step_s);
+  p.get("max_duration_s", c.max_duration_s);
+  p.get("publish_clock", c.publish_clock);
+  p.get("publish_twist", c.publish_twist);
+  p.get("lio_frame", c.lio_frame);
+  p.get("body_frame", c.body_frame);
+  p.get("status_rate_hz", c.status_rate_hz);
+  p.get("coverage_enabled", c.coverage_enabled);
+  p.get("coverage_sample_spacing_m", c.coverage_sample_spacing_m);
+  int sim_seed = static_cast<int>(c.sim.seed);
+  p.get("seed", sim_seed);
+  requireInRange("seed", sim_seed, 0, 1 << 30);
+  c.sim.seed = static_cast<uint64_t>(sim_seed);
+  p.get("physics_rate_hz", c.sim.physics_rate_hz);
+  p.get("odometry_rate_hz", c.sim.odometry_rate_hz);
+  p.get("vehicle_radius_m", c.sim.vehicle_radius_m);
+  p.get("lidar_enabled", c.sim.lidar_enabled);
+  p.get("lidar_range_m", c.sim.lidar.max_range_m);
+  p.get("lidar_pitch_rad", c.sim.lidar.mount_pitch_rad);
+  p.get("lidar_range_noise_std_m", c.sim.lidar.range_noise_std_m);
+  p.get("odometry_position_noise_std_m", c.sim.odometry.position_noise_std_m);
+  p.get("odometry_position_drift_std_m_per_sqrt_s", c.sim.odometry.position_drift_std_m_per_sqrt_s);
+  p.get("odometry_yaw_drift_std_rad_per_sqrt_s", c.sim.odometry.yaw_drift_std_rad_per_sqrt_s);
+  p.rejectUnknown();
+
+  c.world.validate();
+  requireInRange("start_index", c.start_index, 0, 1000);
+  requireInRange("real_time_factor", c.real_time_factor, 0.0, 10000.0);
+  requireInRange("step_s", c.step_s, 1e-4, 0.1);
+  requireInRange("max_duration_s", c.max_duration_s, 0.0, 1e6);
+  requireInRange("status_rate_hz", c.status_rate_hz, 0.1, 1000.0);
+  requireInRange("coverage_sample_spacing_m", c.coverage_sample_spacing_m, 0.5, 100.0);
+  requireThat(!c.lio_frame.empty() && !c.body_frame.empty(), "lio_frame",
+              "frames must not be empty");
+  c.sim.validate();
+  return c;
+}
+
+MarsimNode::MarsimNode(ros::NodeHandle nh, const MarsimNodeConfig& config)
+    : config_(config), world_(loadWorld(config.world)) {
+  if (config_.start_index >= static_cast<int>(world_.start_poses.size())) {
+    throw ConfigError("parameter 'start_index' = " + std::to_string(config_.start_index) +
+                      ", but the world has " + std::to_string(world_.start_poses.size()) +
+                      " start pose(s)");
+  }
+  const StartPose& start = world_.start_poses[config_.start_index];
+  config_.sim.initial_position_m = start.position_m;
+  config_.sim.initial_yaw_rad = start.yaw_rad;
+  sim_ = std::make_unique<Simulator>(world_, config_.sim);
+  if (config_.coverage_enabled) {
+    const efs::Stopwatch watch;
+    ObservableSurfaceConfig oc;
+    oc.voxel_size_m = config_.sim.coverage.voxel_size_m;
+    oc.max_range_m = config_.sim.coverage.coverage_range_m;
+    const auto samples = freeSamplePoints(
+        world_, world_.bounds(), config_.coverage_sample_spacing_m, config_.sim.vehicle_radius_m);
+    sim_->setCoverageGroundTruth(observableSurfaceKeys(world_, samples, oc));
+    ROS_INFO("marsim_node: ground-truth surface of %zu voxels from %zu samples in %.1f s",
+             sim_->coverage()->totalVoxels(), samples.size(), watch.elapsedSeconds());
+  }
+  cloud_pub_ = nh.advertise<sensor_msgs::PointCloud2>(topics::kCloudRegistered, 5);
+  odom_pub_ = nh.advertise<nav_msgs::Odometry>(topics::kOdometry, 100);
+  truth_pub_ = nh.advertise<nav_msgs::Odometry>(topics::kGroundTruth, 100);
+  status_pub_ = nh.advertise<explore_from_sketch::SimulatorStatus>(topics::kStatus, 10);
+  if (config_.publish_clock) clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  so3_sub_ = nh.subscribe(topics::kSo3Command, 10, &MarsimNode::onSo3, this);
+  attitude_sub_ = nh.subscribe(topics::kAttitudeTarget, 10, &MarsimNode::onAttitude, this);
+  ROS_INFO("marsim_node: world %s, start (%.1f, %.1f, %.1f), real-time factor %g",
+           config_.world.describe().c_str(), start.position_m.x(), start.position_m.y(),
+           start.position_m.z(), config_.real_time_factor);
+}
+
+void MarsimNode::onSo3(const explore_from_sketch::SO3Command::ConstPtr& msg) {
+  SO3Command c;
+  c.force_world_N = {msg->force.x, msg->force.y, msg->force.z};
+  c.q_world_body_des = Eigen::Quaterniond(msg->orientation.w, msg->orientation.x,
+                                          msg->orientation.y, msg->orientation.z);
+  c.kR_Nm_per_rad = {msg->kR[0], msg->kR[1], msg->kR[2]};
+  c.kOm_Nm_s_per_rad = {msg->kOm[0], msg->kOm[1], msg->kOm[2]};
+  const CommandStatus s = sim_->setCommand(c);
+  if (!s.accepted) ROS_WARN_THROTTLE(1.0, "marsim_node: so3_cmd rejected: %s", s.reason.c_str());
+}
+
+void MarsimNode::onAttitude(const explore_from_sketch::AttitudeTarget::ConstPtr& msg) {
+  AttitudeTargetCommand c;
+  c.type_mask = msg->type_mask;
+  c.q_world_body_des = Eigen::Quaterniond(msg->orientation.w, msg->orientation.x,
+                                          msg->orientation.y, msg->orientation.z);
+  c.body_rate_des_rad_s = {msg->body_rate.x, msg->body_rate.y, msg->body_rate.z};
+  c.thrust_normalized = msg->thrust;
+  const CommandStatus s = sim_->setCommand(c);
+  if (!s.accepted)
+    ROS_WARN_THROTTLE(1.0, "marsim_node: attitude_target rejected: %s", s.reason.c_str());
+}
+
+namespace {
+
+nav_msgs::Odometry toOdometry(const ros::Time& stamp, const std::string& frame,
+                              const std::string& child, const Eigen::Vector3d& p,
+                              const Eigen::Quaterniond& q, const Eigen::Vector3d& v_world,
+                              const Eigen::Vector3d& omega_body, bool with_twist) {
+  nav_msgs::Odometry o;
+  o.header.stamp = stamp;
+  o.header.frame_id = frame;
+  o.child_frame_id = child;
+  o.pose.pose.position.x = p.x();
+  o.pose.pose.position.y = p.y();
+  o.pose.pose.position.z = p.z();
+  o.pose.pose.orientation.w = q.w();
+  o.pose.pose.orientation.x = q.x();
+  o.pose.pose.orientation.y = q.y();
+  o.pose.pose.orientation.z = q.z();
+  if (with_twist) {
+    const Eigen::Vector3d v_body = q.inverse() * v_world;  // REP 103: twist in the child frame
+    o.twist.twist.linear.x = v_body.x();
+    o.twist.twist.linear.y = v_body.y();
+    o.twist.twist.linear.z = v_body.z();
+    o.twist.twist.angular.x = omega_body.x();
+    o.twist.twist.angular.y = omega_body.y();
+    o.twist.twist.angular.z = omega_body.z();
+  }
+  return o;
+}
+
+}  // namespace
+
+void MarsimNode::publishOutputs(double wall_elapsed_s) {
+  const double t = sim_->time_s();
+  const ros::Time now(t);
+  if (config_.publish_clock) {
+    rosgraph_msgs::Clock c;
+    c.clock = now;
+    clock_pub_.publish(c);
+  }
+  if (sim_->odometrySeq() != last_odom_seq_) {
+    last_odom_seq_ = sim_->odometrySeq();
+    const Odometry& o = sim_->latestOdometry();
+    odom_pub_.publish(toOdometry(ros::Time(o.stamp_s), config_.lio_frame, config_.body_frame,
+                                 o.p_world_m, o.q_world_body, o.v_world_m_s, o.omega_body_rad_s,
+                                 config_.publish_twist));
+    const QuadrotorState& g = sim_->groundTruth();
+    truth_pub_.publish(toOdometry(now, "world_truth", config_.body_frame, g.p_world_m,
+                                  g.q_world_body, g.v_world_m_s, g.omega_body_rad_s, true));
+  }
+  const ScanFrame& scan = sim_->latestScan();
+  if (scan.seq != 0 && scan.seq != last_scan_seq_) {
+    last_scan_seq_ = scan.seq;
+    std_msgs::Header h;
+    h.stamp = ros::Time(scan.stamp_end_s);
+    h.frame_id = config_.lio_frame;
+    cloud_pub_.publish(ros_common::toPointCloud2(scan.points_world, h));
+  }
+  if (sim_->collided() && !collision_reported_) {
+    collision_reported_ = true;
+    const auto& c = *sim_->collision();
+    ROS_ERROR(
+        "marsim_node: COLLISION at t = %.2f s at (%.2f, %.2f, %.2f): the run has failed; the "
+        "vehicle is stopped",
+        c.stamp_s, c.position_m.x(), c.position_m.y(), c.position_m.z());
+  }
+  if (t >= next_status_s_) {
+    next_status_s_ = t + 1.0 / config_.status_rate_hz;
+    explore_from_sketch::SimulatorStatus s;
+    s.header.stamp = now;
+    s.sim_time = t;
+    s.coverage = sim_->coverage() ? sim_->coverage()->fraction() : 0.0;
+    s.travelled_distance = sim_->travelledDistance_m();
+    s.collided = sim_->collided();
+    if (s.collided) {
+      s.collision_position.x = sim_->collision()->position_m.x();
+      s.collision_position.y = sim_->collision()->position_m.y();
+      s.collision_position.z = sim_->collision()->position_m.z();
+    }
+    s.rejected_commands = sim_->rejectedCommands();
+    s.last_rejection = sim_->lastRejection();
+    s.real_time_factor = wall_elapsed_s > 0.0 ? t / wall_elapsed_s : 0.0;
+    status_pub_.publish(s);
+  }
+}
+
+void MarsimNode::run() {
+  const auto wall_start = std::chrono::steady_clock::now();
+  double t = 0.0;
+  publishOutputs(0.0);
+  while (ros::ok()) {
+    if (config_.max_duration_s > 0.0 && t >= config_.max_duration_s) {
+      ROS_INFO("marsim_node: reached max_duration_s = %.1f s of simulated time",
+               config_.max_duration_s);
+      break;
+    }
+    t += config_.step_s;
+    sim_->advanceTo(t);
+    const double wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    publishOutputs(wall_s);
+    ros::spinOnce();
+    if (config_.real_time_factor > 0.0) {
+      const double ahead_s = t / config_.real_time_factor - wall_s;
+      if (ahead_s > 0.0) std::this_thread::sleep_for(std::chrono::duration<double>(ahead_s));
+    }
+  }
+}
+
+}  // namespace efs::sim
