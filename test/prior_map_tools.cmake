@@ -1,0 +1,4 @@
+efs_rostest_gtest(prior_map_server_rostest prior_map_server.test
+  SOURCES ros/prior_map_server_rostest.cpp)
+efs_rostest_gtest(prior_map_server_bad_input_rostest prior_map_server_bad_input.test
+  SOURCES ros/prior_map_server_bad_input_rostest.cpp DEPENDS efs_common)
