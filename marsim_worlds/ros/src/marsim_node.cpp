@@ -21,17 +21,17 @@ namespace efs::sim {
 MarsimNodeConfig loadMarsimNodeConfig(const ros::NodeHandle& private_nh) {
   ros_common::ParamReader p(private_nh);
   MarsimNodeConfig c;
-  p.get("world_kind", c.world.kind);
-  p.get("world_size", c.world.size);
-  int seed = static_cast<int>(c.world.seed);
+  p.get("world_kind", c.session.world.kind);
+  p.get("world_size", c.session.world.size);
+  int seed = static_cast<int>(c.session.world.seed);
   p.get("world_seed", seed);
   requireInRange("world_seed", seed, 0, 1 << 30);
-  c.world.seed = static_cast<uint64_t>(seed);
-  p.get("world_resolution_m", c.world.resolution_m);
-  p.get("world_sdf", c.world.sdf_path);
-  p.get("world_mesh", c.world.mesh_path);
-  p.get("world_pcd", c.world.pcd_path);
-  p.get("start_index", c.start_index);
+  c.session.world.seed = static_cast<uint64_t>(seed);
+  p.get("world_resolution_m", c.session.world.resolution_m);
+  p.get("world_sdf", c.session.world.sdf_path);
+  p.get("world_mesh", c.session.world.mesh_path);
+  p.get("world_pcd", c.session.world.pcd_path);
+  p.get("start_index", c.session.start_index);
   p.get("real_time_factor", c.real_time_factor);
   p.get("step_s", c.step_s);
   p.get("max_duration_s", c.max_duration_s);
@@ -40,58 +40,41 @@ MarsimNodeConfig loadMarsimNodeConfig(const ros::NodeHandle& private_nh) {
   p.get("lio_frame", c.lio_frame);
   p.get("body_frame", c.body_frame);
   p.get("status_rate_hz", c.status_rate_hz);
-  p.get("coverage_enabled", c.coverage_enabled);
-  p.get("coverage_sample_spacing_m", c.coverage_sample_spacing_m);
-  int sim_seed = static_cast<int>(c.sim.seed);
+  p.get("coverage_enabled", c.session.coverage_enabled);
+  p.get("coverage_sample_spacing_m", c.session.coverage_sample_spacing_m);
+  int sim_seed = static_cast<int>(c.session.sim.seed);
   p.get("seed", sim_seed);
   requireInRange("seed", sim_seed, 0, 1 << 30);
-  c.sim.seed = static_cast<uint64_t>(sim_seed);
-  p.get("physics_rate_hz", c.sim.physics_rate_hz);
-  p.get("odometry_rate_hz", c.sim.odometry_rate_hz);
-  p.get("vehicle_radius_m", c.sim.vehicle_radius_m);
-  p.get("lidar_enabled", c.sim.lidar_enabled);
-  p.get("lidar_range_m", c.sim.lidar.max_range_m);
-  p.get("lidar_pitch_rad", c.sim.lidar.mount_pitch_rad);
-  p.get("lidar_range_noise_std_m", c.sim.lidar.range_noise_std_m);
-  p.get("odometry_position_noise_std_m", c.sim.odometry.position_noise_std_m);
-  p.get("odometry_position_drift_std_m_per_sqrt_s", c.sim.odometry.position_drift_std_m_per_sqrt_s);
-  p.get("odometry_yaw_drift_std_rad_per_sqrt_s", c.sim.odometry.yaw_drift_std_rad_per_sqrt_s);
+  c.session.sim.seed = static_cast<uint64_t>(sim_seed);
+  p.get("physics_rate_hz", c.session.sim.physics_rate_hz);
+  p.get("odometry_rate_hz", c.session.sim.odometry_rate_hz);
+  p.get("vehicle_radius_m", c.session.sim.vehicle_radius_m);
+  p.get("lidar_enabled", c.session.sim.lidar_enabled);
+  p.get("lidar_range_m", c.session.sim.lidar.max_range_m);
+  p.get("lidar_pitch_rad", c.session.sim.lidar.mount_pitch_rad);
+  p.get("lidar_range_noise_std_m", c.session.sim.lidar.range_noise_std_m);
+  p.get("odometry_position_noise_std_m", c.session.sim.odometry.position_noise_std_m);
+  p.get("odometry_position_drift_std_m_per_sqrt_s",
+        c.session.sim.odometry.position_drift_std_m_per_sqrt_s);
+  p.get("odometry_yaw_drift_std_rad_per_sqrt_s",
+        c.session.sim.odometry.yaw_drift_std_rad_per_sqrt_s);
   p.rejectUnknown();
 
-  c.world.validate();
-  requireInRange("start_index", c.start_index, 0, 1000);
   requireInRange("real_time_factor", c.real_time_factor, 0.0, 10000.0);
   requireInRange("step_s", c.step_s, 1e-4, 0.1);
   requireInRange("max_duration_s", c.max_duration_s, 0.0, 1e6);
   requireInRange("status_rate_hz", c.status_rate_hz, 0.1, 1000.0);
-  requireInRange("coverage_sample_spacing_m", c.coverage_sample_spacing_m, 0.5, 100.0);
   requireThat(!c.lio_frame.empty() && !c.body_frame.empty(), "lio_frame",
               "frames must not be empty");
-  c.sim.validate();
+  c.session.validate();
   return c;
 }
 
 MarsimNode::MarsimNode(ros::NodeHandle nh, const MarsimNodeConfig& config)
-    : config_(config), world_(loadWorld(config.world)) {
-  if (config_.start_index >= static_cast<int>(world_.start_poses.size())) {
-    throw ConfigError("parameter 'start_index' = " + std::to_string(config_.start_index) +
-                      ", but the world has " + std::to_string(world_.start_poses.size()) +
-                      " start pose(s)");
-  }
-  const StartPose& start = world_.start_poses[config_.start_index];
-  config_.sim.initial_position_m = start.position_m;
-  config_.sim.initial_yaw_rad = start.yaw_rad;
-  sim_ = std::make_unique<Simulator>(world_, config_.sim);
-  if (config_.coverage_enabled) {
-    const efs::Stopwatch watch;
-    ObservableSurfaceConfig oc;
-    oc.voxel_size_m = config_.sim.coverage.voxel_size_m;
-    oc.max_range_m = config_.sim.coverage.coverage_range_m;
-    const auto samples = freeSamplePoints(
-        world_, world_.bounds(), config_.coverage_sample_spacing_m, config_.sim.vehicle_radius_m);
-    sim_->setCoverageGroundTruth(observableSurfaceKeys(world_, samples, oc));
-    ROS_INFO("marsim_node: ground-truth surface of %zu voxels from %zu samples in %.1f s",
-             sim_->coverage()->totalVoxels(), samples.size(), watch.elapsedSeconds());
+    : config_(config), session_(config.session), sim_(&session_.simulator()) {
+  if (sim_->coverage()) {
+    ROS_INFO("marsim_node: ground-truth surface of %zu voxels in %.1f s",
+             sim_->coverage()->totalVoxels(), session_.groundTruthSeconds());
   }
   cloud_pub_ = nh.advertise<sensor_msgs::PointCloud2>(topics::kCloudRegistered, 5);
   odom_pub_ = nh.advertise<nav_msgs::Odometry>(topics::kOdometry, 100);
@@ -100,8 +83,9 @@ MarsimNode::MarsimNode(ros::NodeHandle nh, const MarsimNodeConfig& config)
   if (config_.publish_clock) clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
   so3_sub_ = nh.subscribe(topics::kSo3Command, 10, &MarsimNode::onSo3, this);
   attitude_sub_ = nh.subscribe(topics::kAttitudeTarget, 10, &MarsimNode::onAttitude, this);
+  const StartPose& start = session_.start();
   ROS_INFO("marsim_node: world %s, start (%.1f, %.1f, %.1f), real-time factor %g",
-           config_.world.describe().c_str(), start.position_m.x(), start.position_m.y(),
+           config_.session.world.describe().c_str(), start.position_m.x(), start.position_m.y(),
            start.position_m.z(), config_.real_time_factor);
 }
 

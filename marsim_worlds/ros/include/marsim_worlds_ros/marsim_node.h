@@ -12,26 +12,20 @@
 #include <memory>
 #include <string>
 
-#include "marsim_worlds/simulator.h"
-#include "marsim_worlds/voxel_world.h"
-#include "marsim_worlds/world_source.h"
+#include "marsim_worlds/simulation_session.h"
 
 namespace efs::sim {
 
 struct MarsimNodeConfig {
-  WorldSource world;
-  int start_index = 0;            ///< which of the world's start poses
-  double real_time_factor = 1.0;  ///< simulated s per wall s; 0 = as fast as possible
-  double step_s = 0.01;           ///< simulated time advanced per loop
-  double max_duration_s = 0.0;    ///< stop after this simulated time; 0 = never
+  SimulationSessionConfig session;  ///< world, start pose, coverage, simulator
+  double real_time_factor = 1.0;    ///< simulated s per wall s; 0 = as fast as possible
+  double step_s = 0.01;             ///< simulated time advanced per loop
+  double max_duration_s = 0.0;      ///< stop after this simulated time; 0 = never
   bool publish_clock = true;
   bool publish_twist = false;  ///< FAST-LIO2's /Odometry carries no twist
   std::string lio_frame = "camera_init";
   std::string body_frame = "body";
   double status_rate_hz = 10.0;
-  bool coverage_enabled = true;
-  double coverage_sample_spacing_m = 3.0;  ///< free-space samples for the observable surface
-  SimulatorConfig sim;
 };
 
 MarsimNodeConfig loadMarsimNodeConfig(const ros::NodeHandle& private_nh);
@@ -48,8 +42,8 @@ class MarsimNode {
   void publishOutputs(double wall_elapsed_s);
 
   MarsimNodeConfig config_;
-  VoxelWorld world_;
-  std::unique_ptr<Simulator> sim_;
+  SimulationSession session_;
+  Simulator* sim_;  ///< session_'s simulator
   ros::Subscriber so3_sub_, attitude_sub_;
   ros::Publisher cloud_pub_, odom_pub_, truth_pub_, status_pub_, clock_pub_;
   uint64_t last_odom_seq_ = 0, last_scan_seq_ = 0;
