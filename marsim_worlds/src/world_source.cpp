@@ -40,4 +40,25 @@ VoxelWorld loadWorld(const WorldSource& source) {
                        source.resolution_m);
 }
 
+const std::set<std::string>& worldSourceOptions() {
+  static const std::set<std::string> options{"world", "size", "seed", "resolution",
+                                             "sdf",   "mesh", "pcd"};
+  return options;
+}
+
+WorldSource worldSourceFromArgs(const CliArgs& args, const std::string& default_kind) {
+  WorldSource source;
+  source.kind = args.str("world", default_kind);
+  source.size = args.str("size", source.size);
+  const long seed = args.integer("seed", static_cast<long>(source.seed));
+  requireInRange("seed", seed, 0L, 1L << 40);
+  source.seed = static_cast<uint64_t>(seed);
+  source.resolution_m = args.number("resolution", source.resolution_m);
+  source.sdf_path = args.str("sdf", "");
+  source.mesh_path = args.str("mesh", "");
+  source.pcd_path = args.str("pcd", "");
+  source.validate();
+  return source;
+}
+
 }  // namespace efs::sim

@@ -3,7 +3,7 @@
 // world_view: writes a top-down PNG of a world with its four sketch variants beside it, for a
 // person to check, and saves each sketch with its sidecar.
 //
-//   world_view --kind garage|simple_cave|subt_cave|indoor [--size small|paper] [--seed N]
+//   world_view --world garage|simple_cave|subt_cave|indoor [--size small|paper] [--seed N]
 //   world_view --sdf path/to/world.sdf | --mesh path/to/mesh.dae | --pcd path/to/cloud.pcd
 //   common: [--resolution 0.15] [--out DIR] [--view-mpp 0.2] [--sketch-seed N]
 #include <cstdio>
@@ -14,9 +14,8 @@
 
 #include "efs_common/cli_args.h"
 #include "efs_common/resource_usage.h"
-#include "marsim_worlds/world_generators.h"
-#include "marsim_worlds/world_importers.h"
 #include "marsim_worlds/world_sketch.h"
+#include "marsim_worlds/world_source.h"
 
 namespace {
 
@@ -40,26 +39,15 @@ cv::Mat fitHeight(const cv::Mat& img, int height) {
 int main(int argc, char** argv) {
   using namespace efs::sim;
   try {
-    const efs::CliArgs args(argc, argv,
-                            {"kind", "size", "seed", "resolution", "out", "view-mpp", "sketch-seed",
-                             "sdf", "mesh", "pcd"});
-    const double res = args.number("resolution", 0.15);
+    std::set<std::string> options = worldSourceOptions();
+    options.insert({"out", "view-mpp", "sketch-seed"});
+    const efs::CliArgs args(argc, argv, options);
+    const WorldSource source = worldSourceFromArgs(args, "garage");
+    const double res = source.resolution_m;
     const std::string out_dir = args.str("out", ".");
     std::filesystem::create_directories(out_dir);
     efs::Stopwatch watch;
-    VoxelWorld world = [&]() {
-      ImportConfig ic;
-      ic.resolution_m = res;
-      if (args.has("sdf")) return importSdfWorld(args.required("sdf"), ic);
-      if (args.has("mesh"))
-        return importMeshWorld(args.required("mesh"), Eigen::Isometry3d::Identity(), ic);
-      if (args.has("pcd")) return importPcdWorld(args.required("pcd"), ic);
-      const WorldKind kind = parseWorldKind(args.str("kind", "garage"));
-      const std::string size = args.str("size", "small");
-      if (size != "small" && size != "paper") throw efs::CliError("--size must be small or paper");
-      return generateWorld(kind, size == "small" ? WorldSize::kSmall : WorldSize::kPaper,
-                           static_cast<uint64_t>(args.integer("seed", 1)), res);
-    }();
+    VoxelWorld world = loadWorld(source);
     const double build_s = watch.elapsedSeconds();
     const Eigen::Vector3d size = world.bounds().sizes();
     std::printf("world %s: %.0f x %.0f x %.0f m at %.2f m, built in %.2f s, %.1f MB\n",

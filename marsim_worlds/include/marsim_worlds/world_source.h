@@ -6,7 +6,10 @@
 #pragma once
 
 #include <cstdint>
+#include <set>
 #include <string>
+
+#include "efs_common/cli_args.h"
 
 #include "marsim_worlds/voxel_world.h"
 
@@ -29,5 +32,13 @@ struct WorldSource {
 
 /// Generates or imports the world; throws with the file and problem on failure.
 VoxelWorld loadWorld(const WorldSource& source);
+
+/// The command-line options every tool uses to name a world: --world KIND, --size, --seed,
+/// --resolution, --sdf, --mesh, --pcd (add them to the tool's CliArgs valued options).
+const std::set<std::string>& worldSourceOptions();
+/// A WorldSource from those options (`default_kind` when --world is absent); validated, so a bad
+/// value throws efs::ConfigError naming the option's parameter.
+WorldSource worldSourceFromArgs(const CliArgs& args,
+                                const std::string& default_kind = "simple_cave");
 
 }  // namespace efs::sim
