@@ -9,6 +9,7 @@
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <tf2_ros/transform_listener.h>
 
 #include <cmath>
 
@@ -42,6 +43,16 @@ TEST(MarsimNode, PublishesClockOdometryAndClouds) {
   ASSERT_TRUE(status);
   EXPECT_GT(status->coverage, 0.0);
   EXPECT_LE(status->coverage, 1.0);
+  // The pose is on TF too, as FAST-LIO2 broadcasts it.
+  tf2_ros::Buffer buffer;
+  tf2_ros::TransformListener listener(buffer);
+  const auto tf = buffer.lookupTransform("camera_init", "body", ros::Time(0), ros::Duration(5.0));
+  EXPECT_TRUE(std::isfinite(tf.transform.translation.z));
+  EXPECT_NEAR(tf.transform.rotation.w * tf.transform.rotation.w +
+                  tf.transform.rotation.z * tf.transform.rotation.z +
+                  tf.transform.rotation.x * tf.transform.rotation.x +
+                  tf.transform.rotation.y * tf.transform.rotation.y,
+              1.0, 1e-6);
 }
 
 TEST(MarsimNode, HoversUnderCommandAndRefusesNan) {

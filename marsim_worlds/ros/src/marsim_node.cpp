@@ -2,6 +2,7 @@
 #include "marsim_worlds_ros/marsim_node.h"
 
 #include <explore_from_sketch/SimulatorStatus.h>
+#include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <rosgraph_msgs/Clock.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -14,6 +15,7 @@
 #include "efs_common_ros/cloud_conversions.h"
 #include "efs_common_ros/param_reader.h"
 #include "marsim_worlds/coverage.h"
+#include "marsim_worlds_ros/lio_messages.h"
 #include "marsim_worlds_ros/topics.h"
 
 namespace efs::sim {
@@ -36,9 +38,9 @@ MarsimNodeConfig loadMarsimNodeConfig(const ros::NodeHandle& private_nh) {
   p.get("step_s", c.step_s);
   p.get("max_duration_s", c.max_duration_s);
   p.get("publish_clock", c.publish_clock);
-  p.get("publish_twist", c.publish_twist);
-  p.get("lio_frame", c.lio_frame);
-  p.get("body_frame", c.body_frame);
+  p.get("publish_twist", c.messages.publish_twist);
+  p.get("lio_frame", c.messages.lio_frame);
+  p.get("body_frame", c.messages.body_frame);
   p.get("status_rate_hz", c.status_rate_hz);
   p.get("coverage_enabled", c.session.coverage_enabled);
   p.get("coverage_sample_spacing_m", c.session.coverage_sample_spacing_m);
@@ -64,14 +66,17 @@ MarsimNodeConfig loadMarsimNodeConfig(const ros::NodeHandle& private_nh) {
   requireInRange("step_s", c.step_s, 1e-4, 0.1);
   requireInRange("max_duration_s", c.max_duration_s, 0.0, 1e6);
   requireInRange("status_rate_hz", c.status_rate_hz, 0.1, 1000.0);
-  requireThat(!c.lio_frame.empty() && !c.body_frame.empty(), "lio_frame",
+  requireThat(!c.messages.lio_frame.empty() && !c.messages.body_frame.empty(), "lio_frame",
               "frames must not be empty");
   c.session.validate();
   return c;
 }
 
 MarsimNode::MarsimNode(ros::NodeHandle nh, const MarsimNodeConfig& config)
-    : config_(config), session_(config.session), sim_(&session_.simulator()) {
+    : config_(config),
+      session_(config.session),
+      sim_(&session_.simulator()),
+      lio_messages_(config.messages) {
   if (sim_->coverage()) {
     ROS_INFO("marsim_node: ground-truth surface of %zu voxels in %.1f s",
              sim_->coverage()->totalVoxels(), session_.groundTruthSeconds());
@@ -112,37 +117,6 @@ void MarsimNode::onAttitude(const explore_from_sketch::AttitudeTarget::ConstPtr&
     ROS_WARN_THROTTLE(1.0, "marsim_node: attitude_target rejected: %s", s.reason.c_str());
 }
 
-namespace {
-
-nav_msgs::Odometry toOdometry(const ros::Time& stamp, const std::string& frame,
-                              const std::string& child, const Eigen::Vector3d& p,
-                              const Eigen::Quaterniond& q, const Eigen::Vector3d& v_world,
-                              const Eigen::Vector3d& omega_body, bool with_twist) {
-  nav_msgs::Odometry o;
-  o.header.stamp = stamp;
-  o.header.frame_id = frame;
-  o.child_frame_id = child;
-  o.pose.pose.position.x = p.x();
-  o.pose.pose.position.y = p.y();
-  o.pose.pose.position.z = p.z();
-  o.pose.pose.orientation.w = q.w();
-  o.pose.pose.orientation.x = q.x();
-  o.pose.pose.orientation.y = q.y();
-  o.pose.pose.orientation.z = q.z();
-  if (with_twist) {
-    const Eigen::Vector3d v_body = q.inverse() * v_world;  // REP 103: twist in the child frame
-    o.twist.twist.linear.x = v_body.x();
-    o.twist.twist.linear.y = v_body.y();
-    o.twist.twist.linear.z = v_body.z();
-    o.twist.twist.angular.x = omega_body.x();
-    o.twist.twist.angular.y = omega_body.y();
-    o.twist.twist.angular.z = omega_body.z();
-  }
-  return o;
-}
-
-}  // namespace
-
 void MarsimNode::publishOutputs(double wall_elapsed_s) {
   const double t = sim_->time_s();
   const ros::Time now(t);
@@ -151,24 +125,20 @@ void MarsimNode::publishOutputs(double wall_elapsed_s) {
     c.clock = now;
     clock_pub_.publish(c);
   }
-  if (sim_->odometrySeq() != last_odom_seq_) {
-    last_odom_seq_ = sim_->odometrySeq();
-    const Odometry& o = sim_->latestOdometry();
-    odom_pub_.publish(toOdometry(ros::Time(o.stamp_s), config_.lio_frame, config_.body_frame,
-                                 o.p_world_m, o.q_world_body, o.v_world_m_s, o.omega_body_rad_s,
-                                 config_.publish_twist));
-    const QuadrotorState& g = sim_->groundTruth();
-    truth_pub_.publish(toOdometry(now, "world_truth", config_.body_frame, g.p_world_m,
-                                  g.q_world_body, g.v_world_m_s, g.omega_body_rad_s, true));
+  if (auto odom = lio_messages_.newOdometry(*sim_)) {
+    odom_pub_.publish(*odom);
+    // FAST-LIO2 broadcasts the same pose on TF (camera_init -> body).
+    geometry_msgs::TransformStamped tf;
+    tf.header = odom->header;
+    tf.child_frame_id = odom->child_frame_id;
+    tf.transform.translation.x = odom->pose.pose.position.x;
+    tf.transform.translation.y = odom->pose.pose.position.y;
+    tf.transform.translation.z = odom->pose.pose.position.z;
+    tf.transform.rotation = odom->pose.pose.orientation;
+    tf_broadcaster_.sendTransform(tf);
+    truth_pub_.publish(lio_messages_.groundTruth(*sim_));
   }
-  const ScanFrame& scan = sim_->latestScan();
-  if (scan.seq != 0 && scan.seq != last_scan_seq_) {
-    last_scan_seq_ = scan.seq;
-    std_msgs::Header h;
-    h.stamp = ros::Time(scan.stamp_end_s);
-    h.frame_id = config_.lio_frame;
-    cloud_pub_.publish(ros_common::toPointCloud2(scan.points_world, h));
-  }
+  if (auto scan = lio_messages_.newScan(*sim_)) cloud_pub_.publish(*scan);
   if (sim_->collided() && !collision_reported_) {
     collision_reported_ = true;
     const auto& c = *sim_->collision();

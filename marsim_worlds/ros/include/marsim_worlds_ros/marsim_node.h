@@ -8,11 +8,13 @@
 #include <explore_from_sketch/AttitudeTarget.h>
 #include <explore_from_sketch/SO3Command.h>
 #include <ros/ros.h>
+#include <tf2_ros/transform_broadcaster.h>
 
 #include <memory>
 #include <string>
 
 #include "marsim_worlds/simulation_session.h"
+#include "marsim_worlds_ros/lio_messages.h"
 
 namespace efs::sim {
 
@@ -22,9 +24,7 @@ struct MarsimNodeConfig {
   double step_s = 0.01;             ///< simulated time advanced per loop
   double max_duration_s = 0.0;      ///< stop after this simulated time; 0 = never
   bool publish_clock = true;
-  bool publish_twist = false;  ///< FAST-LIO2's /Odometry carries no twist
-  std::string lio_frame = "camera_init";
-  std::string body_frame = "body";
+  LioMessageConfig messages;  ///< frames and twist of the FAST-LIO2-shaped output
   double status_rate_hz = 10.0;
 };
 
@@ -46,7 +46,8 @@ class MarsimNode {
   Simulator* sim_;  ///< session_'s simulator
   ros::Subscriber so3_sub_, attitude_sub_;
   ros::Publisher cloud_pub_, odom_pub_, truth_pub_, status_pub_, clock_pub_;
-  uint64_t last_odom_seq_ = 0, last_scan_seq_ = 0;
+  LioMessages lio_messages_;
+  tf2_ros::TransformBroadcaster tf_broadcaster_;
   double next_status_s_ = 0.0;
   bool collision_reported_ = false;
 };
