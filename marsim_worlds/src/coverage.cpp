@@ -69,11 +69,8 @@ std::vector<Eigen::Vector3d> freeSamplePoints(const WorldGeometry& world,
 }
 
 Coverage::Coverage(const CoverageConfig& config, const VoxelKeySet& ground_truth_surface)
-    : config_((config.validate(), config)) {
-  index_.reserve(ground_truth_surface.size());
-  uint32_t i = 0;
-  for (const VoxelKey& k : ground_truth_surface) index_.emplace(k, i++);
-  seen_.assign(index_.size(), 0);
+    : config_((config.validate(), config)), table_(ground_truth_surface) {
+  seen_.assign(table_.capacity(), 0);
 }
 
 std::size_t Coverage::observe(const Eigen::Vector3d& sensor_origin_world,
@@ -89,9 +86,9 @@ std::size_t Coverage::observe(const Eigen::Vector3d& sensor_origin_world,
     const VoxelKey k = surfaceVoxelKey(surface_world[i], dirs_world[i], config_.voxel_size_m);
     if (k == last) continue;  // consecutive returns often share a voxel: skip the hash lookup
     last = k;
-    const auto it = index_.find(k);
-    if (it == index_.end() || seen_[it->second]) continue;
-    seen_[it->second] = 1;
+    const std::optional<size_t> slot = table_.find(k);
+    if (!slot || seen_[*slot]) continue;
+    seen_[*slot] = 1;
     ++seen_count_;
     ++fresh;
   }
@@ -99,13 +96,13 @@ std::size_t Coverage::observe(const Eigen::Vector3d& sensor_origin_world,
 }
 
 double Coverage::fraction() const {
-  return index_.empty() ? 0.0
-                        : static_cast<double>(seen_count_) / static_cast<double>(index_.size());
+  return table_.size() == 0 ? 0.0
+                            : static_cast<double>(seen_count_) / static_cast<double>(table_.size());
 }
 
 bool Coverage::isSeen(const VoxelKey& k) const {
-  const auto it = index_.find(k);
-  return it != index_.end() && seen_[it->second];
+  const std::optional<size_t> slot = table_.find(k);
+  return slot && seen_[*slot];
 }
 
 }  // namespace efs::sim

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "efs_common/voxel_key.h"
+#include "efs_common/voxel_key_table.h"
 #include "marsim_worlds/world_geometry.h"
 
 namespace efs::sim {
@@ -74,7 +75,7 @@ class Coverage {
                       const std::vector<Eigen::Vector3f>& surface_world,
                       const std::vector<Eigen::Vector3f>& dirs_world);
 
-  std::size_t totalVoxels() const { return index_.size(); }
+  std::size_t totalVoxels() const { return table_.size(); }
   std::size_t seenVoxels() const { return seen_count_; }
   /// Seen / total; 0 for an empty ground truth.
   double fraction() const;
@@ -83,8 +84,8 @@ class Coverage {
 
  private:
   CoverageConfig config_;
-  std::unordered_map<VoxelKey, uint32_t, VoxelKeyHash> index_;
-  std::vector<uint8_t> seen_;
+  VoxelKeyTable table_;
+  std::vector<uint8_t> seen_;  ///< per table slot
   std::size_t seen_count_ = 0;
 };
 
