@@ -1,0 +1,144 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// The exploration "brain" as one stateful object (paper Algorithm 2 around its planning cycle):
+// registered scans go into the observation map and the occupancy; on update() the frontier
+// clusters and viewpoints are brought up to date and, when a replan is due, the hierarchical
+// planner picks the local tour whose first viewpoint becomes the target. The ROS node and the
+// in-process closed-loop mission both drive this class; it never reads a clock (time_s is
+// injected) and holds no global state.
+//
+// Replanning happens when no plan exists yet, `replan_period_s` has elapsed, the target was
+// reached (within `target_reached_m`), the target viewpoint disappeared (its frontier was
+// observed), or new hypotheses arrived. A reached viewpoint is not planned for again (its id is
+// remembered; a re-sampled cluster gets new ids), so the robot never circles one viewpoint whose
+// frontier the scans cannot clear. kFinished when no viewpoint remains, kStuck when viewpoints
+// exist but none is reachable.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "prior_guided_planner/frontier_clusters.h"
+#include "prior_guided_planner/hierarchical_planner.h"
+#include "prior_guided_planner/observation_map.h"
+#include "prior_guided_planner/occupancy_map.h"
+#include "prior_guided_planner/path_length.h"
+#include "prior_guided_planner/viewpoint_sampler.h"
+
+namespace efs::planner {
+
+struct ExplorationManagerConfig {
+  ObservationMapConfig observation;
+  OccupancyConfig occupancy;
+  FrontierClusterConfig frontier;
+  ViewpointConfig viewpoint;
+  LidarFovConfig fov;
+  PathSearchConfig path;
+  HierarchicalPlannerConfig planner;
+  /// Plan at most this often [s] unless the target is reached, gone, or hypotheses changed.
+  double replan_period_s = 1.0;
+  /// The target counts as reached when the robot is this close to it [m].
+  double target_reached_m = 1.0;
+  /// Exploration box if known (guidepoints far outside it are ignored); std::nullopt = unknown.
+  std::optional<Eigen::AlignedBox3d> bounds_world_m;
+  /// Throws efs::ConfigError naming the key.
+  void validate() const;
+};
+
+enum class ExplorationState { kWaitingForData, kExploring, kFinished, kStuck };
+const char* toString(ExplorationState s);
+
+/// What the local trajectory planner gets.
+struct ExplorationTarget {
+  ExplorationState state = ExplorationState::kWaitingForData;
+  bool has_goal = false;
+  Eigen::Vector3d goal_world_m = Eigen::Vector3d::Zero();     ///< next viewpoint position
+  double goal_yaw_rad = 0.0;                                  ///< its yaw
+  Eigen::Vector3d look_at_world_m = Eigen::Vector3d::Zero();  ///< frontier cluster centroid
+  std::optional<int> goal_viewpoint_id;
+  std::vector<Eigen::Vector3d> tour_world_m;  ///< local tour (viewpoint positions) for display
+  std::optional<int> active_hypothesis_id;
+  BaselineMode mode_used = BaselineMode::kPriorFree;
+  bool replanned = false;  ///< a new plan this update
+  std::string message;     ///< why there is no goal, what input was refused, ...
+};
+
+/// Counters of refused input, for status messages and tests.
+struct ExplorationInputStats {
+  size_t scans_inserted = 0;
+  size_t scans_empty = 0;
+  size_t scans_rejected = 0;  ///< non-finite sensor origin
+  size_t points_dropped_nonfinite = 0;
+  size_t updates_rejected = 0;  ///< time going backwards or non-finite time / pose
+  size_t hypotheses_rejected = 0;
+};
+
+class ExplorationManager {
+ public:
+  /// prior: guidepoints in the sketch frame; std::nullopt = no sketch (prior-free behaviour).
+  /// Throws efs::ConfigError (config) or std::invalid_argument (malformed prior).
+  ExplorationManager(const ExplorationManagerConfig& config, std::optional<GuidepointPrior> prior);
+
+  /// One registered scan (world frame, like FAST-LIO2 cloud_registered) and the sensor origin.
+  /// Non-finite points are dropped and counted; an empty scan is a no-op; a non-finite origin
+  /// refuses the scan (counted, reported in the next target's message).
+  void insertScan(const Eigen::Vector3d& sensor_origin_world_m,
+                  const std::vector<Eigen::Vector3f>& points_world_m);
+
+  /// Latest registration hypotheses (planner types; the caller converts). Replaces the previous
+  /// set. Unusable ones (NaN, non-positive scale, bad confidence) are kept out and counted.
+  void setHypotheses(std::vector<Hypothesis> hypotheses);
+
+  /// Replans when due and returns the current target. time_s must not go backwards (else the
+  /// update is refused with a message, no crash). Terminates (kFinished) when no viewpoint
+  /// remains.
+  const ExplorationTarget& update(double time_s, const RobotPose& robot);
+
+  const ExplorationTarget& target() const { return target_; }
+  const ObservationMap& observationMap() const { return observation_; }
+  const OccupancyMap& occupancy() const { return occupancy_; }
+  const FrontierClusterer& frontierClusters() const { return clusters_; }
+  /// The last planning result (groups, sequences, attachments); nullptr before the first plan.
+  const PlanningResult* lastPlan() const { return last_plan_ ? &*last_plan_ : nullptr; }
+  /// Viewpoints of the last plan (indices match lastPlan()).
+  const std::vector<PlanViewpoint>& viewpoints() const { return viewpoints_; }
+  const std::vector<Hypothesis>& hypotheses() const { return hypotheses_; }
+  const std::optional<GuidepointPrior>& prior() const { return prior_; }
+  const ExplorationInputStats& inputStats() const { return stats_; }
+  const ExplorationManagerConfig& config() const { return config_; }
+
+ private:
+  void refreshMapProducts();
+  bool replanDue(double time_s, const RobotPose& robot) const;
+  void replan(double time_s, const RobotPose& robot);
+
+  ExplorationManagerConfig config_;
+  std::optional<GuidepointPrior> prior_;
+  ObservationMap observation_;
+  OccupancyMap occupancy_;
+  FrontierClusterer clusters_;
+  ViewpointManager viewpoint_manager_;
+  PathLengthCache path_cache_;
+  HierarchicalPlanner planner_;
+
+  std::vector<Hypothesis> hypotheses_;
+  bool hypotheses_changed_ = false;
+  bool map_dirty_ = false;
+  std::vector<PlanViewpoint> viewpoints_;
+  std::vector<int> viewpoint_cluster_;  ///< cluster id per entry of viewpoints_
+  std::set<int> reached_viewpoint_ids_;
+  std::optional<PlanningResult> last_plan_;
+  std::optional<double> last_time_s_;
+  std::optional<double> last_plan_time_s_;
+  ExplorationTarget target_;
+  ExplorationInputStats stats_;
+  std::string plan_message_;     ///< what the last plan said
+  std::string pending_message_;  ///< refused input since the last update
+};
+
+}  // namespace efs::planner

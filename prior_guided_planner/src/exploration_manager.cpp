@@ -1,0 +1,258 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "prior_guided_planner/exploration_manager.h"
+
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <utility>
+
+#include "efs_common/config_check.h"
+#include "prior_guided_planner/observation_map_inputs.h"
+
+namespace efs::planner {
+
+void ExplorationManagerConfig::validate() const {
+  observation.validate();
+  occupancy.validate();
+  frontier.validate();
+  viewpoint.validate();
+  fov.validate();
+  path.validate();
+  planner.validate();
+  requireInRange("replan_period_s", replan_period_s, 0.0, 3600.0);
+  requireInRange("target_reached_m", target_reached_m, 1e-3, 1e3);
+  if (bounds_world_m) {
+    requireThat(bounds_world_m->min().allFinite() && bounds_world_m->max().allFinite(),
+                "bounds_world_m", "corners must be finite");
+    requireThat(!bounds_world_m->isEmpty(), "bounds_world_m", "min must not exceed max");
+  }
+}
+
+const char* toString(ExplorationState s) {
+  switch (s) {
+    case ExplorationState::kWaitingForData:
+      return "waiting_for_data";
+    case ExplorationState::kExploring:
+      return "exploring";
+    case ExplorationState::kFinished:
+      return "finished";
+    case ExplorationState::kStuck:
+      return "stuck";
+  }
+  return "unknown";
+}
+
+namespace {
+
+const ExplorationManagerConfig& validated(const ExplorationManagerConfig& c) {
+  c.validate();
+  return c;
+}
+
+}  // namespace
+
+ExplorationManager::ExplorationManager(const ExplorationManagerConfig& config,
+                                       std::optional<GuidepointPrior> prior)
+    : config_(validated(config)),
+      prior_(std::move(prior)),
+      observation_(config_.observation),
+      occupancy_(config_.occupancy),
+      clusters_(config_.frontier),
+      viewpoint_manager_(ViewpointSampler(config_.viewpoint, config_.fov)),
+      path_cache_(occupancy_, config_.path),
+      planner_(config_.planner) {
+  if (prior_) prior_->validate();
+  target_.message = "no scan yet";
+}
+
+void ExplorationManager::insertScan(const Eigen::Vector3d& origin,
+                                    const std::vector<Eigen::Vector3f>& points) {
+  if (points.empty()) {
+    ++stats_.scans_empty;
+    return;
+  }
+  if (!origin.allFinite()) {
+    ++stats_.scans_rejected;
+    pending_message_ = "scan refused: sensor origin is not finite";
+    return;
+  }
+  std::vector<Eigen::Vector3d> pts;
+  pts.reserve(points.size());
+  size_t dropped = 0;
+  for (const Eigen::Vector3f& p : points) {
+    if (p.allFinite())
+      pts.push_back(p.cast<double>());
+    else
+      ++dropped;
+  }
+  stats_.points_dropped_nonfinite += dropped;
+  if (dropped > 0) {
+    std::ostringstream os;
+    os << "dropped " << dropped << " non-finite point(s) of " << points.size() << " in a scan";
+    pending_message_ = os.str();
+  }
+  if (pts.empty()) {
+    ++stats_.scans_empty;
+    return;
+  }
+  observation_.insertScan(origin, pts);
+  occupancy_.insertScan(origin, pts);
+  path_cache_.sync();
+  ++stats_.scans_inserted;
+  map_dirty_ = true;
+}
+
+void ExplorationManager::setHypotheses(std::vector<Hypothesis> hypotheses) {
+  std::vector<Hypothesis> usable;
+  std::string why_not;
+  for (Hypothesis& h : hypotheses) {
+    if (auto defect = hypothesisDefect(h)) {
+      ++stats_.hypotheses_rejected;
+      why_not +=
+          (why_not.empty() ? "" : "; ") + ("hypothesis " + std::to_string(h.id) + ": " + *defect);
+    } else {
+      usable.push_back(h);
+    }
+  }
+  if (!why_not.empty()) pending_message_ = "hypotheses refused: " + why_not;
+  hypotheses_ = std::move(usable);
+  hypotheses_changed_ = true;
+}
+
+void ExplorationManager::refreshMapProducts() {
+  if (!map_dirty_) return;
+  clusters_.update(observation_);
+  viewpoint_manager_.update(clusters_, occupancy_, observation_.resolution());
+  map_dirty_ = false;
+}
+
+bool ExplorationManager::replanDue(double time_s, const RobotPose& robot) const {
+  if (!last_plan_time_s_ || hypotheses_changed_) return true;
+  if (time_s - *last_plan_time_s_ >= config_.replan_period_s) return true;
+  if (!target_.has_goal || !target_.goal_viewpoint_id) return true;
+  if ((robot.position_world_m - target_.goal_world_m).norm() <= config_.target_reached_m)
+    return true;
+  for (const auto& [cluster, vps] : viewpoint_manager_.byCluster())
+    for (const Viewpoint& v : vps)
+      if (v.id == *target_.goal_viewpoint_id) return false;
+  return true;  // the target viewpoint is gone: its frontier was observed or it became unsafe
+}
+
+void ExplorationManager::replan(double time_s, const RobotPose& robot) {
+  // A target the robot reached is not planned for again.
+  if (target_.has_goal && target_.goal_viewpoint_id &&
+      (robot.position_world_m - target_.goal_world_m).norm() <= config_.target_reached_m)
+    reached_viewpoint_ids_.insert(*target_.goal_viewpoint_id);
+
+  std::map<int, Eigen::Vector3d> centroid;
+  for (const auto& [id, c] : clusters_.clusters()) centroid[id] = c.centroid_world_m;
+  std::vector<PlanViewpoint> vps;
+  std::vector<int> vp_cluster;
+  std::set<int> alive;
+  for (const Viewpoint& v : viewpoint_manager_.all()) {
+    alive.insert(v.id);
+    if (reached_viewpoint_ids_.count(v.id)) continue;
+    vps.push_back({v.id, v.position_world_m, v.yaw_rad});
+    vp_cluster.push_back(v.cluster_id);
+  }
+  for (const PlanViewpoint& old : viewpoints_)
+    if (!alive.count(old.id)) path_cache_.forget(static_cast<uint64_t>(old.id));
+  for (auto it = reached_viewpoint_ids_.begin(); it != reached_viewpoint_ids_.end();)
+    it = alive.count(*it) ? std::next(it) : reached_viewpoint_ids_.erase(it);
+  viewpoints_ = std::move(vps);
+  viewpoint_cluster_ = std::move(vp_cluster);
+
+  PlanningInput in;
+  in.robot = robot;
+  in.viewpoints = viewpoints_;
+  in.path_length_m = makePathLengthFn(path_cache_, robot.position_world_m, viewpoints_);
+  in.hypotheses = hypotheses_;
+  in.prior = prior_ ? &*prior_ : nullptr;
+  in.observation = makeObservationQuery(observation_);
+  if (config_.bounds_world_m)
+    in.bounds_world_m = Eigen::AlignedBox2d(config_.bounds_world_m->min().head<2>(),
+                                            config_.bounds_world_m->max().head<2>());
+  last_plan_ = planner_.plan(in);
+  last_plan_time_s_ = time_s;
+  hypotheses_changed_ = false;
+
+  const PlanningResult& plan = *last_plan_;
+  target_.replanned = true;
+  target_.mode_used = plan.mode_used;
+  target_.active_hypothesis_id =
+      plan.active_hypothesis_id >= 0 ? std::optional<int>(plan.active_hypothesis_id) : std::nullopt;
+  target_.tour_world_m.clear();
+  target_.has_goal = false;
+  target_.goal_viewpoint_id.reset();
+  switch (plan.status) {
+    case PlanningStatus::kNoViewpoints:
+      target_.state = ExplorationState::kFinished;
+      plan_message_ = "no viewpoint remains: exploration finished";
+      return;
+    case PlanningStatus::kNoReachableViewpoint:
+      target_.state = ExplorationState::kStuck;
+      plan_message_ = std::to_string(viewpoints_.size()) +
+                      " viewpoint(s) remain but none is reachable from the robot";
+      return;
+    case PlanningStatus::kOk:
+      break;
+  }
+  if (plan.tour.viewpoints.empty()) {
+    target_.state = ExplorationState::kStuck;
+    plan_message_ = "the planner returned an empty tour";
+    return;
+  }
+  for (int i : plan.tour.viewpoints)
+    target_.tour_world_m.push_back(viewpoints_[i].position_world_m);
+  const int first = plan.tour.viewpoints.front();
+  const PlanViewpoint& goal = viewpoints_[first];
+  target_.state = ExplorationState::kExploring;
+  target_.has_goal = true;
+  target_.goal_world_m = goal.position_world_m;
+  target_.goal_yaw_rad = goal.yaw_rad;
+  target_.goal_viewpoint_id = goal.id;
+  const auto c = centroid.find(viewpoint_cluster_[first]);
+  target_.look_at_world_m = c != centroid.end() ? c->second : goal.position_world_m;
+  std::ostringstream os;
+  os << "exploring (" << toString(plan.mode_used) << "), " << viewpoints_.size()
+     << " viewpoint(s), tour of " << plan.tour.viewpoints.size();
+  if (!plan.tour.unreachable_viewpoints.empty())
+    os << ", " << plan.tour.unreachable_viewpoints.size() << " unreachable";
+  plan_message_ = os.str();
+}
+
+const ExplorationTarget& ExplorationManager::update(double time_s, const RobotPose& robot) {
+  target_.replanned = false;
+  if (!std::isfinite(time_s) || !robot.position_world_m.allFinite() ||
+      !std::isfinite(robot.yaw_rad)) {
+    ++stats_.updates_rejected;
+    target_.message = "update refused: time or robot pose is not finite";
+    return target_;
+  }
+  if (last_time_s_ && time_s < *last_time_s_) {
+    ++stats_.updates_rejected;
+    std::ostringstream os;
+    os << "update refused: time went backwards (" << time_s << " s after " << *last_time_s_
+       << " s)";
+    target_.message = os.str();
+    return target_;
+  }
+  last_time_s_ = time_s;
+  if (stats_.scans_inserted == 0) {
+    target_.state = ExplorationState::kWaitingForData;
+    target_.has_goal = false;
+    target_.message = pending_message_.empty() ? "no scan yet" : pending_message_;
+    pending_message_.clear();
+    return target_;
+  }
+  refreshMapProducts();
+  if (replanDue(time_s, robot)) replan(time_s, robot);
+  target_.message = plan_message_;
+  if (!pending_message_.empty()) {
+    target_.message += "; " + pending_message_;
+    pending_message_.clear();
+  }
+  return target_;
+}
+
+}  // namespace efs::planner

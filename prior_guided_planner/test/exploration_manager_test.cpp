@@ -1,0 +1,298 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "prior_guided_planner/exploration_manager.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+#include <set>
+
+#include "efs_common/config_check.h"
+#include "observation_map_test_scenes.h"
+#include "prior_guided_planner/prior_from_bundle.h"
+#include "prior_map_tools/prior_map_builder.h"
+#include "prior_map_tools/sketch_loader.h"
+
+namespace efs::planner {
+namespace {
+
+using testing::Scene;
+
+// A closed corridor room 15.6 m x 6 m x 3 m (the inside of a box).
+Scene corridorRoom() {
+  Scene s;
+  s.room = {Eigen::Vector3d(0.15, -2.85, 0.15), Eigen::Vector3d(15.75, 3.15, 3.15)};
+  return s;
+}
+
+std::vector<Eigen::Vector3f> toFloat(const std::vector<Eigen::Vector3d>& pts) {
+  std::vector<Eigen::Vector3f> out;
+  for (const auto& p : pts) out.push_back(p.cast<float>());
+  return out;
+}
+
+void scanFrom(ExplorationManager& m, const Scene& s, const Eigen::Vector3d& o) {
+  m.insertScan(o, toFloat(s.scanSphere(o, 1.0)));
+}
+
+RobotPose at(const Eigen::Vector3d& p, double yaw = 0.0) {
+  RobotPose r;
+  r.position_world_m = p;
+  r.yaw_rad = yaw;
+  return r;
+}
+
+TEST(ExplorationManager, WaitsForDataThenProducesAGoalAhead) {
+  const Scene room = corridorRoom();
+  ExplorationManager m(ExplorationManagerConfig{}, std::nullopt);
+  const Eigen::Vector3d start(2.0, 0.1, 1.6);
+  const ExplorationTarget& t0 = m.update(0.0, at(start));
+  EXPECT_EQ(t0.state, ExplorationState::kWaitingForData);
+  EXPECT_FALSE(t0.has_goal);
+  EXPECT_NE(t0.message.find("no scan"), std::string::npos);
+
+  scanFrom(m, room, start);
+  const ExplorationTarget& t = m.update(0.1, at(start));
+  ASSERT_EQ(t.state, ExplorationState::kExploring) << t.message;
+  ASSERT_TRUE(t.has_goal);
+  EXPECT_TRUE(t.replanned);
+  EXPECT_EQ(t.mode_used, BaselineMode::kPriorFree);  // no prior
+  EXPECT_FALSE(t.active_hypothesis_id.has_value());
+  EXPECT_GT(t.goal_world_m.x(), start.x());  // the unexplored part of the corridor is ahead
+  EXPECT_TRUE(m.occupancy().isSafe(t.goal_world_m, 0.4, false));
+  ASSERT_FALSE(t.tour_world_m.empty());
+  EXPECT_TRUE(t.tour_world_m.front().isApprox(t.goal_world_m));
+  ASSERT_NE(m.lastPlan(), nullptr);
+  EXPECT_EQ(m.lastPlan()->tour.viewpoints.size(), t.tour_world_m.size());
+  EXPECT_FALSE(m.viewpoints().empty());
+  // The look-at point is the goal's frontier cluster, which the goal viewpoint faces.
+  EXPECT_LT((t.look_at_world_m - t.goal_world_m).norm(), 8.0);
+}
+
+TEST(ExplorationManager, NoReplanBeforeThePeriodUnlessTheTargetIsReached) {
+  const Scene room = corridorRoom();
+  ExplorationManagerConfig c;
+  c.replan_period_s = 5.0;
+  ExplorationManager m(c, std::nullopt);
+  const Eigen::Vector3d start(2.0, 0.1, 1.6);
+  scanFrom(m, room, start);
+  ASSERT_TRUE(m.update(0.0, at(start)).replanned);
+  const Eigen::Vector3d goal = m.target().goal_world_m;
+  EXPECT_FALSE(m.update(1.0, at(start)).replanned);
+  EXPECT_TRUE(m.target().goal_world_m.isApprox(goal));
+  EXPECT_TRUE(m.update(5.5, at(start)).replanned);  // period elapsed
+  const Eigen::Vector3d goal2 = m.target().goal_world_m;
+  // Reaching the target replans at once, and the reached viewpoint is not the target again.
+  const ExplorationTarget& t = m.update(5.6, at(goal2));
+  EXPECT_TRUE(t.replanned);
+  if (t.has_goal) {
+    EXPECT_GT((t.goal_world_m - goal2).norm(), 1e-6);
+  }
+}
+
+// Flying from goal to goal (a scan at each) explores the closed room; the manager then reports
+// kFinished, and each reached goal moved on.
+TEST(ExplorationManager, ClosedLoopFinishesAClosedRoom) {
+  const Scene room = corridorRoom();
+  ExplorationManager m(ExplorationManagerConfig{}, std::nullopt);
+  Eigen::Vector3d pos(2.0, 0.1, 1.6);
+  scanFrom(m, room, pos);
+  double t_s = 0.0;
+  int goals = 0;
+  for (int step = 0; step < 60; ++step) {
+    const ExplorationTarget& t = m.update(t_s, at(pos));
+    t_s += 0.5;
+    if (t.state == ExplorationState::kFinished) break;
+    ASSERT_EQ(t.state, ExplorationState::kExploring) << t.message;
+    ASSERT_TRUE(t.has_goal);
+    EXPECT_GT((t.goal_world_m - pos).norm(), 1e-6) << "the goal must move on when reached";
+    EXPECT_TRUE(room.room.lo.x() < t.goal_world_m.x() && t.goal_world_m.x() < room.room.hi.x());
+    pos = t.goal_world_m;
+    scanFrom(m, room, pos);
+    ++goals;
+  }
+  EXPECT_EQ(m.target().state, ExplorationState::kFinished) << m.target().message;
+  EXPECT_FALSE(m.target().has_goal);
+  EXPECT_GE(goals, 2);
+  EXPECT_TRUE(m.viewpoints().empty());
+  // Being finished is stable while nothing new is seen.
+  EXPECT_EQ(m.update(t_s + 10.0, at(pos)).state, ExplorationState::kFinished);
+}
+
+TEST(ExplorationManager, NonFiniteInputIsDroppedAndReported) {
+  const Scene room = corridorRoom();
+  ExplorationManager m(ExplorationManagerConfig{}, std::nullopt);
+  const Eigen::Vector3d start(2.0, 0.1, 1.6);
+  std::vector<Eigen::Vector3f> pts = toFloat(room.scanSphere(start, 1.0));
+  const size_t n_good = pts.size();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  pts.emplace_back(nan, 0.f, 1.f);
+  pts.emplace_back(1.f, std::numeric_limits<float>::infinity(), 1.f);
+  m.insertScan(start, pts);
+  EXPECT_EQ(m.inputStats().points_dropped_nonfinite, 2u);
+  EXPECT_EQ(m.inputStats().scans_inserted, 1u);
+  const ExplorationTarget& t = m.update(0.0, at(start));
+  EXPECT_TRUE(t.has_goal);
+  EXPECT_NE(t.message.find("non-finite"), std::string::npos) << t.message;
+  EXPECT_GT(n_good, 1000u);
+
+  // A scan of only NaN and an empty scan change nothing; a NaN origin is refused.
+  const size_t surface = m.observationMap().numSurfaceCells();
+  m.insertScan(start, {Eigen::Vector3f(nan, nan, nan)});
+  m.insertScan(start, {});
+  m.insertScan(Eigen::Vector3d(std::nan(""), 0, 0), toFloat(room.scanSphere(start, 2.0)));
+  EXPECT_EQ(m.observationMap().numSurfaceCells(), surface);
+  EXPECT_EQ(m.inputStats().scans_inserted, 1u);
+  EXPECT_EQ(m.inputStats().scans_empty, 2u);
+  EXPECT_EQ(m.inputStats().scans_rejected, 1u);
+  EXPECT_NE(m.update(0.1, at(start)).message.find("sensor origin"), std::string::npos);
+
+  // A non-finite pose is refused, the last target kept.
+  const Eigen::Vector3d goal = m.target().goal_world_m;
+  const ExplorationTarget& bad = m.update(0.2, at(Eigen::Vector3d(std::nan(""), 0, 0)));
+  EXPECT_FALSE(bad.replanned);
+  EXPECT_TRUE(bad.goal_world_m.isApprox(goal));
+  EXPECT_NE(bad.message.find("not finite"), std::string::npos);
+}
+
+TEST(ExplorationManager, TimeGoingBackwardsIsRefused) {
+  const Scene room = corridorRoom();
+  ExplorationManager m(ExplorationManagerConfig{}, std::nullopt);
+  const Eigen::Vector3d start(2.0, 0.1, 1.6);
+  scanFrom(m, room, start);
+  ASSERT_TRUE(m.update(10.0, at(start)).has_goal);
+  const Eigen::Vector3d goal = m.target().goal_world_m;
+  const ExplorationTarget& t = m.update(5.0, at(start));
+  EXPECT_FALSE(t.replanned);
+  EXPECT_TRUE(t.has_goal);
+  EXPECT_TRUE(t.goal_world_m.isApprox(goal));
+  EXPECT_NE(t.message.find("backwards"), std::string::npos) << t.message;
+  EXPECT_EQ(m.inputStats().updates_rejected, 1u);
+  // Time moving on again works; the refused update did not move the clock.
+  EXPECT_TRUE(m.update(11.5, at(start)).replanned);
+}
+
+GuidepointPrior corridorPrior(int n, double spacing_m) {
+  GuidepointPrior g;
+  for (int i = 0; i < n; ++i) {
+    g.ids.push_back(i);
+    g.positions_sketch_m.emplace_back(spacing_m * i, 0.0);
+  }
+  g.prm_distance_m = CostMatrix(n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) g.prm_distance_m(i, j) = spacing_m * std::abs(i - j);
+  return g;
+}
+
+TEST(ExplorationManager, HypothesesGuideAndBadOnesAreRefused) {
+  const Scene room = corridorRoom();
+  ExplorationManager m(ExplorationManagerConfig{}, corridorPrior(4, 5.0));
+  const Eigen::Vector3d start(2.0, 0.1, 1.6);
+  scanFrom(m, room, start);
+  Hypothesis bad;
+  bad.id = 3;
+  bad.T_world_sketch.scale = std::nan("");
+  Hypothesis neg;
+  neg.id = 4;
+  neg.T_world_sketch.scale = -1.0;
+  Hypothesis good;
+  good.id = 9;
+  good.T_world_sketch = Sim2(0.0, 1.0, Eigen::Vector2d(1.0, 0.0));
+  m.setHypotheses({bad, neg, good});
+  EXPECT_EQ(m.inputStats().hypotheses_rejected, 2u);
+  ASSERT_EQ(m.hypotheses().size(), 1u);
+  const ExplorationTarget& t = m.update(0.0, at(start));
+  ASSERT_TRUE(t.has_goal) << t.message;
+  EXPECT_NE(t.message.find("hypothesis 3"), std::string::npos) << t.message;
+  EXPECT_EQ(t.mode_used, BaselineMode::kProposed);
+  EXPECT_EQ(t.active_hypothesis_id, std::optional<int>(9));
+  // New hypotheses replan at once even inside the period.
+  EXPECT_FALSE(m.update(0.1, at(start)).replanned);
+  m.setHypotheses({});
+  const ExplorationTarget& t2 = m.update(0.2, at(start));
+  EXPECT_TRUE(t2.replanned);
+  EXPECT_EQ(t2.mode_used, BaselineMode::kPriorFree);
+}
+
+TEST(ExplorationManager, ConfigErrorsNameTheKey) {
+  auto expectKey = [](ExplorationManagerConfig c, const std::string& key) {
+    try {
+      ExplorationManager m(c, std::nullopt);
+      ADD_FAILURE() << "no error for " << key;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
+  ExplorationManagerConfig c;
+  c.replan_period_s = -1.0;
+  expectKey(c, "replan_period_s");
+  c = {};
+  c.target_reached_m = std::nan("");
+  expectKey(c, "target_reached_m");
+  c = {};
+  c.bounds_world_m = Eigen::AlignedBox3d(Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(0, 0, 0));
+  expectKey(c, "bounds_world_m");
+  c = {};
+  c.planner.fe_tsp.v_max_mps = 0.0;
+  expectKey(c, "v_max");
+}
+
+TEST(ExplorationManager, MalformedPriorIsRefused) {
+  GuidepointPrior p = corridorPrior(3, 5.0);
+  p.positions_sketch_m[1].x() = std::nan("");
+  EXPECT_THROW(ExplorationManager(ExplorationManagerConfig{}, p), std::invalid_argument);
+}
+
+// Two rooms with no door between them, drawn as a sketch and pre-processed by prior_map_tools.
+efs::prior_map::PriorBundle twoRoomBundle() {
+  cv::Mat1b img(200, 400, uint8_t(255));
+  const cv::Scalar black(0);
+  cv::rectangle(img, cv::Point(20, 40), cv::Point(240, 120), black, 2);
+  cv::rectangle(img, cv::Point(280, 40), cv::Point(380, 160), black, 2);
+  efs::prior_map::SketchLoadConfig lc;
+  lc.scale_guess_m_per_px = 0.1;
+  efs::prior_map::PriorMapConfig config;
+  config.guidepoints.mapping_range_m = 3.0;
+  return efs::prior_map::buildPriorBundle(efs::prior_map::sketchFromImage(img, lc, "two_rooms"),
+                                          config);
+}
+
+TEST(PriorFromBundle, GuidepointsAndPrmDistancesCarryOver) {
+  const efs::prior_map::PriorBundle b = twoRoomBundle();
+  const GuidepointPrior p = guidepointPriorFromBundle(b);
+  ASSERT_GE(p.size(), 3);
+  ASSERT_EQ(p.size(), static_cast<int>(b.guidepoints.size()));
+  bool some_unreachable = false, some_reachable = false;
+  for (int i = 0; i < p.size(); ++i) {
+    EXPECT_EQ(p.ids[i], b.guidepoints[i].id);
+    EXPECT_TRUE(p.positions_sketch_m[i].isApprox(b.guidepoints[i].position_m));
+    EXPECT_TRUE(b.frame.contains(p.positions_sketch_m[i]));
+    for (int j = 0; j < p.size(); ++j) {
+      if (!b.distances.reachable(i, j)) {
+        EXPECT_EQ(p.prm_distance_m(i, j), kUnreachable);
+        some_unreachable = true;
+        EXPECT_NE(b.guidepoints[i].component, b.guidepoints[j].component);
+      } else {
+        EXPECT_DOUBLE_EQ(p.prm_distance_m(i, j), b.distances.at(i, j));
+        // A path is never shorter than the straight line (sketch metres on both sides).
+        EXPECT_GE(p.prm_distance_m(i, j) + 1e-6,
+                  (p.positions_sketch_m[i] - p.positions_sketch_m[j]).norm());
+        some_reachable = some_reachable || i != j;
+      }
+    }
+  }
+  EXPECT_TRUE(some_unreachable) << "the two rooms have no door: some pair must be unreachable";
+  EXPECT_TRUE(some_reachable);
+  // The long room (22 m) holds more than one guidepoint, 3 m mapping range -> 9 m interval.
+  EXPECT_NO_THROW(p.validate());
+}
+
+TEST(PriorFromBundle, MismatchedDistanceMatrixIsRefused) {
+  efs::prior_map::PriorBundle b = twoRoomBundle();
+  b.distances = efs::prior_map::DistanceMatrix(1);
+  EXPECT_THROW(guidepointPriorFromBundle(b), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace efs::planner
