@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "efs_common/config_check.h"
@@ -243,7 +244,7 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
 void SketchRegistration::updateHypotheses(const Points2d& icp_points, const ObservedIndex& observed,
                                           FrameDiagnostics& diag) {
   struct Input {
-    int id;
+    std::optional<int> id;  ///< empty: a new transform, not yet a hypothesis
     int age;
     Sim2 T;
   };
@@ -270,11 +271,11 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
       }
     }
     if (known) continue;
-    inputs.push_back({-1, 0, r.T_world_sketch});
+    inputs.push_back({std::nullopt, 0, r.T_world_sketch});
     ++added;
   }
   struct Refined {
-    int id;
+    std::optional<int> id;
     int age;
     IcpResult r;
   };
@@ -289,10 +290,10 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
   for (const Input& in : inputs) {
     // Live hypotheses were refined last frame: a narrow capture radius suffices.
     const IcpResult r = icp_->refine(
-        in.T, icp_points, in.id >= 0 ? 1.5 * config_.icp.min_correspondence_m : 0.0, &observed);
+        in.T, icp_points, in.id ? 1.5 * config_.icp.min_correspondence_m : 0.0, &observed);
     ++diag.icp_runs;
     if (!r.valid || !(r.fitness_m <= config_.fitness_threshold_m)) {
-      if (in.id < 0) rejected_.push_back({in.T, frame_counter_});
+      if (!in.id) rejected_.push_back({in.T, frame_counter_});
       continue;
     }
     refined.push_back({in.id, in.age, r});
@@ -307,7 +308,7 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
       if (transformDistance(k.r.T_world_sketch, f.r.T_world_sketch, config_.verifier.lambda) <
           config_.merge_distance) {
         // The oldest id survives a merge, so a hypothesis keeps its id while it lives.
-        if (f.id >= 0 && (k.id < 0 || f.id < k.id)) {
+        if (f.id && (!k.id || *f.id < *k.id)) {
           k.id = f.id;
           k.age = std::max(k.age, f.age);
         }
@@ -323,7 +324,7 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
   live_.clear();
   for (Refined& k : kept) {
     Hypothesis h;
-    h.id = k.id >= 0 ? k.id : next_id_++;
+    h.id = k.id ? *k.id : next_id_++;
     h.T_world_sketch = k.r.T_world_sketch;
     h.fitness_m = k.r.fitness_m;
     h.inlier_ratio = k.r.inlier_ratio;

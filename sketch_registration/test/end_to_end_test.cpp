@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <optional>
 
 #include "sketch_registration/sketch_registration.h"
 #include "sketch_registration/synthetic_scene.h"
@@ -93,7 +94,8 @@ TEST(EndToEnd, HypothesisIdIsStableOnceConverged) {
   const syn::Scenario sc = officeScenario(truth);
   SketchRegistration reg(SketchRegistration::Config{}, sc.sketch_points_m, sc.candidates_m);
   syn::LocalMapSimulator sim(sc.world_plan, syn::LocalMapSimulator::Config{});
-  int good_id = -1, good_frames = 0;
+  std::optional<int> good_id;
+  int good_frames = 0;
   for (size_t i = 0; i < sc.path_world_m.size(); ++i) {
     sim.scanAt(sc.path_world_m[i]);
     if (i % 5 != 4) continue;
@@ -101,8 +103,8 @@ TEST(EndToEnd, HypothesisIdIsStableOnceConverged) {
     const auto& r = reg.addFrame(double(i), {p.x(), p.y(), 1.5}, sim.localMap(p, 40.0));
     for (const auto& h : r.hypotheses) {
       if (worstError(h.T_world_sketch, truth, sc) < 1.0) {
-        if (good_id >= 0) {
-          EXPECT_EQ(h.id, good_id) << "frame " << i;
+        if (good_id) {
+          EXPECT_EQ(h.id, *good_id) << "frame " << i;
         }
         good_id = h.id;
         ++good_frames;

@@ -44,7 +44,7 @@ enum class RegistrationStatus {
 const char* toString(RegistrationStatus status);
 
 struct Hypothesis {
-  int id = -1;  ///< stable over frames while the hypothesis survives
+  int id = 0;  ///< assigned on creation (0, 1, 2, ...); stable while the hypothesis survives
   Sim2 T_world_sketch;
   double fitness_m = 0.0;   ///< F
   double confidence = 0.0;  ///< softmax(-tau F) over the reported hypotheses
