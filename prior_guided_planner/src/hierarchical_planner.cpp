@@ -8,14 +8,11 @@
 namespace efs::planner {
 
 void HierarchicalPlannerConfig::validate() const {
-  requireThat(mode == BaselineMode::kProposed || mode == BaselineMode::kPriorFree ||
-                  mode == BaselineMode::kNearestFrontier,
-              "mode",
-              "'" + toString(mode) + "' is not implemented by the hierarchical planner core");
   attachment.validate();
   sequencing.validate();
   mcts.validate();
   fe_tsp.validate();
+  greedy.validate();
   requireInRange("min_confidence", min_confidence, 0.0, 1e9);
 }
 
@@ -59,8 +56,7 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) const {
     return res;
   }
 
-  if (config_.mode == BaselineMode::kProposed && in.prior && in.prior->size() > 0) {
-    in.prior->validate();
+  const auto sortHypotheses = [&] {
     for (size_t j = 0; j < in.hypotheses.size(); ++j) {
       const Hypothesis& h = in.hypotheses[j];
       if (auto why = hypothesisDefect(h)) {
@@ -71,6 +67,37 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) const {
         res.used_hypotheses.push_back(static_cast<int>(j));
       }
     }
+  };
+
+  if (config_.mode == BaselineMode::kGreedyPrior && in.prior &&
+      !in.prior->predicted_free_sketch_m.empty()) {
+    in.prior->validate();
+    sortHypotheses();
+    int best_h = -1;
+    for (int j : res.used_hypotheses)
+      if (best_h < 0 || in.hypotheses[j].confidence > in.hypotheses[best_h].confidence) best_h = j;
+    if (best_h >= 0) {
+      const Hypothesis& h = in.hypotheses[best_h];
+      const double cell_world_m = h.T_world_sketch.scale * in.prior->predicted_free_cell_m;
+      res.greedy =
+          scoreGreedyPrior(in.viewpoints, robot_len,
+                           unobservedPredictedFree(*in.prior, h, in.observation, config_.greedy),
+                           cell_world_m * cell_world_m, config_.greedy);
+      if (res.greedy.best >= 0) {
+        res.mode_used = BaselineMode::kGreedyPrior;
+        res.active_hypothesis_id = h.id;
+        res.tour.viewpoints = {res.greedy.best};
+        res.tour.cost_s = robot_len[res.greedy.best] / config_.fe_tsp.v_max_mps;
+        for (int i = 0; i < nv; ++i)
+          if (!(robot_len[i] < kUnreachable)) res.tour.unreachable_viewpoints.push_back(i);
+        return res;
+      }
+    }
+  }
+
+  if (config_.mode == BaselineMode::kProposed && in.prior && in.prior->size() > 0) {
+    in.prior->validate();
+    sortHypotheses();
     for (size_t k = 0; k < res.used_hypotheses.size(); ++k) {
       const Hypothesis& h = in.hypotheses[res.used_hypotheses[k]];
       res.attachments.push_back(attachViewpoints(h, *in.prior, in.viewpoints, in.observation,
@@ -101,7 +128,8 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) const {
       }
     }
   }
-  // No prior, no usable hypothesis, no target group (or nothing reachable in it): prior-free.
+  // No prior, no usable hypothesis, no target group (or nothing reachable in it), or nothing
+  // predicted unknown in reach (greedy_prior): prior-free.
   res.mode_used = BaselineMode::kPriorFree;
   res.active_hypothesis_id = -1;
   res.tour = solvePriorFreeTour(in.robot, in.viewpoints, in.path_length_m, config_.fe_tsp);

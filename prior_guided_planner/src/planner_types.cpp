@@ -38,6 +38,14 @@ void GuidepointPrior::validate() const {
                                     std::to_string(j) + ") is NaN or negative");
     }
   }
+  if (!predicted_free_sketch_m.empty() &&
+      !(std::isfinite(predicted_free_cell_m) && predicted_free_cell_m > 0.0))
+    throw std::invalid_argument("GuidepointPrior: predicted_free_cell_m " +
+                                std::to_string(predicted_free_cell_m) + " is not positive");
+  for (size_t i = 0; i < predicted_free_sketch_m.size(); ++i)
+    if (!predicted_free_sketch_m[i].allFinite())
+      throw std::invalid_argument("GuidepointPrior: predicted free sample " + std::to_string(i) +
+                                  " is not finite");
 }
 
 std::string toString(BaselineMode mode) {

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <set>
 
@@ -284,8 +285,24 @@ TEST(PriorFromBundle, GuidepointsAndPrmDistancesCarryOver) {
   }
   EXPECT_TRUE(some_unreachable) << "the two rooms have no door: some pair must be unreachable";
   EXPECT_TRUE(some_reachable);
-  // The long room (22 m) holds more than one guidepoint, 3 m mapping range -> 9 m interval.
   EXPECT_NO_THROW(p.validate());
+}
+
+TEST(PriorFromBundle, PredictedFreeSamplesCoverTheTraversableArea) {
+  const efs::prior_map::PriorBundle b = twoRoomBundle();
+  const GuidepointPrior p = guidepointPriorFromBundle(b, 1.0);
+  ASSERT_FALSE(p.predicted_free_sketch_m.empty());
+  EXPECT_NEAR(p.predicted_free_cell_m, 1.0, 1e-9);  // 10 px of 0.1 m
+  for (const Eigen::Vector2d& s : p.predicted_free_sketch_m) {
+    const Eigen::Vector2d px = b.frame.toPixel(s);
+    EXPECT_NE(b.traversable(static_cast<int>(px.y()), static_cast<int>(px.x())), 0);
+  }
+  const double area_m2 = cv::countNonZero(b.traversable) * b.frame.m_per_px * b.frame.m_per_px;
+  const double sampled_m2 =
+      p.predicted_free_sketch_m.size() * p.predicted_free_cell_m * p.predicted_free_cell_m;
+  EXPECT_NEAR(sampled_m2, area_m2, 0.15 * area_m2);
+  EXPECT_THROW(guidepointPriorFromBundle(b, 0.0), std::invalid_argument);
+  EXPECT_THROW(guidepointPriorFromBundle(b, std::nan("")), std::invalid_argument);
 }
 
 TEST(PriorFromBundle, MismatchedDistanceMatrixIsRefused) {

@@ -156,8 +156,10 @@ TEST(HierarchicalPlanner, NoPriorMeansPriorFreeAndModesAreSelectable) {
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("planner.mode"), std::string::npos);
   }
-  cfg.mode = BaselineMode::kGreedyPrior;  // needs the information-gain predictor: not here
-  EXPECT_THROW(HierarchicalPlanner{cfg}, ConfigError);
+  cfg.mode = BaselineMode::kGreedyPrior;  // no prior here: prior-free
+  r = HierarchicalPlanner(cfg).plan(in);
+  EXPECT_EQ(r.mode_used, BaselineMode::kPriorFree);
+  EXPECT_EQ(r.tour.viewpoints.size(), 4u);
   cfg = HierarchicalPlannerConfig();
   cfg.attachment.rho_m = -1.0;
   try {

@@ -2,9 +2,10 @@
 //
 // One planning cycle of the paper's Algorithm 2 over abstract inputs: per usable hypothesis
 // TransformVps + AttachVps + states + MCTS; GroupVps; CalcRisk (more than one hypothesis) and
-// SelectPriSeq; FE-TSP to the second next guidepoint. Falls back to the prior-free tour when
-// there is no prior, no usable hypothesis, or no target group; reports "no viewpoints" so the
-// caller can terminate the exploration.
+// SelectPriSeq; FE-TSP to the second next guidepoint. The baselines (prior_free,
+// nearest_frontier, greedy_prior) run in the same call, chosen by `mode`. Falls back to the
+// prior-free tour when there is no prior, no usable hypothesis, or no target group; reports "no
+// viewpoints" so the caller can terminate the exploration.
 #pragma once
 
 #include <optional>
@@ -13,6 +14,7 @@
 
 #include "prior_guided_planner/baseline_mode.h"
 #include "prior_guided_planner/fe_tsp.h"
+#include "prior_guided_planner/greedy_prior.h"
 #include "prior_guided_planner/sequence_selection.h"
 
 namespace efs::planner {
@@ -23,9 +25,11 @@ struct HierarchicalPlannerConfig {
   SequencingConfig sequencing;
   MctsConfig mcts;
   FeTspConfig fe_tsp;
+  /// The greedy_prior baseline's information gain and utility.
+  GreedyPriorConfig greedy;
   /// Hypotheses with a confidence below this are not used (and reported as rejected).
   double min_confidence = 0.0;
-  /// Throws efs::ConfigError naming the key (also for modes this core does not implement).
+  /// Throws efs::ConfigError naming the key.
   void validate() const;
 };
 
@@ -53,7 +57,8 @@ struct RejectedHypothesis {
 
 struct PlanningResult {
   PlanningStatus status = PlanningStatus::kOk;
-  /// kProposed when the prior guided this cycle, kPriorFree when it fell back.
+  /// kProposed / kGreedyPrior when the prior guided this cycle, kPriorFree when it fell back,
+  /// kNearestFrontier in that mode.
   BaselineMode mode_used = BaselineMode::kPriorFree;
   LocalTour tour;
   /// Hypotheses used (indices into the input) with their attachments and sequences.
@@ -65,6 +70,8 @@ struct PlanningResult {
   std::vector<RejectedHypothesis> rejected;
   /// The selected hypothesis' id (-1 when none guided).
   int active_hypothesis_id = -1;
+  /// greedy_prior only: per-viewpoint scores (empty in the other modes or without a prior).
+  GreedyPriorScores greedy;
 };
 
 class HierarchicalPlanner {

@@ -50,9 +50,15 @@ struct GuidepointPrior {
   std::vector<uint32_t> ids;
   std::vector<Eigen::Vector2d> positions_sketch_m;
   CostMatrix prm_distance_m;
+  /// Samples of the sketch's traversable space (sketch frame), each standing for
+  /// `predicted_free_cell_m`^2 of predicted free area; the greedy_prior baseline's information
+  /// gain. May be empty (then greedy_prior has nothing to predict and runs prior-free).
+  std::vector<Eigen::Vector2d> predicted_free_sketch_m;
+  double predicted_free_cell_m = 1.0;
 
   int size() const { return static_cast<int>(positions_sketch_m.size()); }
-  /// Throws std::invalid_argument naming the defect (sizes, NaN, negative distances).
+  /// Throws std::invalid_argument naming the defect (sizes, NaN, negative distances, free
+  /// samples).
   void validate() const;
 };
 
