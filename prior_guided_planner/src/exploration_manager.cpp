@@ -172,6 +172,7 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   if (config_.bounds_world_m)
     in.bounds_world_m = Eigen::AlignedBox2d(config_.bounds_world_m->min().head<2>(),
                                             config_.bounds_world_m->max().head<2>());
+  plan_hypotheses_ = hypotheses_;
   last_plan_ = planner_.plan(in);
   last_plan_time_s_ = time_s;
   hypotheses_changed_ = false;
@@ -219,6 +220,23 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   if (!plan.tour.unreachable_viewpoints.empty())
     os << ", " << plan.tour.unreachable_viewpoints.size() << " unreachable";
   plan_message_ = os.str();
+}
+
+const HypothesisAttachment* ExplorationManager::activeAttachment() const {
+  if (!last_plan_ || last_plan_->active_hypothesis_id < 0) return nullptr;
+  const PlanningResult& p = *last_plan_;
+  for (size_t k = 0; k < p.used_hypotheses.size() && k < p.attachments.size(); ++k)
+    if (plan_hypotheses_[p.used_hypotheses[k]].id == p.active_hypothesis_id)
+      return &p.attachments[k];
+  return nullptr;
+}
+
+std::vector<Eigen::Vector2d> ExplorationManager::activeGuidepointSequence() const {
+  std::vector<Eigen::Vector2d> out;
+  const HypothesisAttachment* a = activeAttachment();
+  if (!a) return out;
+  for (int g : last_plan_->selection.guidepoint_sequence) out.push_back(a->guidepoints_world_m[g]);
+  return out;
 }
 
 const ExplorationTarget& ExplorationManager::update(double time_s, const RobotPose& robot) {

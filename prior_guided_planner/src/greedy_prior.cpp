@@ -24,8 +24,13 @@ std::vector<Eigen::Vector2d> unobservedPredictedFree(const GuidepointPrior& prio
   out.reserve(prior.predicted_free_sketch_m.size());
   for (const Eigen::Vector2d& s : prior.predicted_free_sketch_m) {
     const Eigen::Vector2d w = h.T_world_sketch * s;
-    if (observation && observation(w, config.observed_radius_m) != ObservationLevel::kNone)
-      continue;
+    if (observation) {
+      const ObservationLevel level = observation(w, config.observed_radius_m);
+      const bool known = config.poorly_observed_is_unknown
+                             ? level == ObservationLevel::kWellObserved
+                             : level != ObservationLevel::kNone;
+      if (known) continue;
+    }
     out.push_back(w);
   }
   return out;

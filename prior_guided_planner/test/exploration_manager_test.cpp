@@ -208,12 +208,37 @@ TEST(ExplorationManager, HypothesesGuideAndBadOnesAreRefused) {
   EXPECT_NE(t.message.find("hypothesis 3"), std::string::npos) << t.message;
   EXPECT_EQ(t.mode_used, BaselineMode::kProposed);
   EXPECT_EQ(t.active_hypothesis_id, std::optional<int>(9));
+  const HypothesisAttachment* a = m.activeAttachment();
+  ASSERT_NE(a, nullptr);
+  ASSERT_EQ(a->guidepoints_world_m.size(), 4u);
+  EXPECT_TRUE(a->guidepoints_world_m[1].isApprox(Eigen::Vector2d(6.0, 0.0)));  // shifted by 1 m
+  EXPECT_FALSE(m.activeGuidepointSequence().empty());
   // New hypotheses replan at once even inside the period.
   EXPECT_FALSE(m.update(0.1, at(start)).replanned);
   m.setHypotheses({});
   const ExplorationTarget& t2 = m.update(0.2, at(start));
   EXPECT_TRUE(t2.replanned);
   EXPECT_EQ(t2.mode_used, BaselineMode::kPriorFree);
+  EXPECT_EQ(m.activeAttachment(), nullptr);
+  EXPECT_TRUE(m.activeGuidepointSequence().empty());
+}
+
+TEST(ExplorationManager, GreedyPriorModeFollowsThePredictedCorridor) {
+  const Scene room = corridorRoom();
+  ExplorationManagerConfig c;
+  c.planner.mode = BaselineMode::kGreedyPrior;
+  GuidepointPrior prior = corridorPrior(4, 5.0);
+  for (double x = 0.5; x < 16.0; x += 1.0)
+    for (double y = -2.5; y < 3.0; y += 1.0) prior.predicted_free_sketch_m.emplace_back(x, y);
+  ExplorationManager m(c, prior);
+  const Eigen::Vector3d start(2.0, 0.1, 1.6);
+  scanFrom(m, room, start);
+  m.setHypotheses({Hypothesis{2, Sim2(), 0.7}});
+  const ExplorationTarget& t = m.update(0.0, at(start));
+  ASSERT_TRUE(t.has_goal) << t.message;
+  EXPECT_EQ(t.mode_used, BaselineMode::kGreedyPrior);
+  EXPECT_EQ(t.active_hypothesis_id, std::optional<int>(2));
+  EXPECT_EQ(t.tour_world_m.size(), 1u);
 }
 
 TEST(ExplorationManager, ConfigErrorsNameTheKey) {

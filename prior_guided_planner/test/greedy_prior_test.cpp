@@ -101,6 +101,19 @@ TEST(GreedyPrior, HypothesisPlacesAndScalesThePrediction) {
   EXPECT_EQ(s.best, 0);
 }
 
+TEST(GreedyPrior, PoorlyObservedSpaceCountsAsUnknownUnlessConfigured) {
+  const GuidepointPrior prior = corridorPrior();
+  const ObservationQuery poor = [](const Eigen::Vector2d&, double) {
+    return ObservationLevel::kPoorlyObserved;
+  };
+  const Hypothesis h{1, Sim2(), 1.0};
+  GreedyPriorConfig c;
+  EXPECT_EQ(unobservedPredictedFree(prior, h, poor, c).size(),
+            prior.predicted_free_sketch_m.size());
+  c.poorly_observed_is_unknown = false;
+  EXPECT_TRUE(unobservedPredictedFree(prior, h, poor, c).empty());
+}
+
 TEST(GreedyPrior, UnreachableViewpointsAreNeverChosen) {
   const std::vector<PlanViewpoint> vps = {PlanViewpoint{0, {9.0, 0.0, 1.0}, 0.0},
                                           PlanViewpoint{1, {8.0, 0.0, 1.0}, 0.0}};

@@ -107,7 +107,13 @@ class ExplorationManager {
   const PlanningResult* lastPlan() const { return last_plan_ ? &*last_plan_ : nullptr; }
   /// Viewpoints of the last plan (indices match lastPlan()).
   const std::vector<PlanViewpoint>& viewpoints() const { return viewpoints_; }
+  /// The usable hypotheses set last (those the next plan uses).
   const std::vector<Hypothesis>& hypotheses() const { return hypotheses_; }
+  /// Attachment and guidepoint states under the hypothesis that guided the last plan; nullptr
+  /// when none did (no prior, prior-free fallback, or a baseline without attachments).
+  const HypothesisAttachment* activeAttachment() const;
+  /// The selected prior sequence of the last plan as world positions (empty when none).
+  std::vector<Eigen::Vector2d> activeGuidepointSequence() const;
   const std::optional<GuidepointPrior>& prior() const { return prior_; }
   const ExplorationInputStats& inputStats() const { return stats_; }
   const ExplorationManagerConfig& config() const { return config_; }
@@ -127,6 +133,7 @@ class ExplorationManager {
   HierarchicalPlanner planner_;
 
   std::vector<Hypothesis> hypotheses_;
+  std::vector<Hypothesis> plan_hypotheses_;  ///< the set the last plan used
   bool hypotheses_changed_ = false;
   bool map_dirty_ = false;
   std::vector<PlanViewpoint> viewpoints_;

@@ -3,7 +3,8 @@
 // The greedy_prior baseline (after Luperto et al.: frontier utility from the information gain
 // predicted on the sketch, chosen greedily). Under the most confident usable hypothesis the
 // sketch's traversable samples are put into the world; those the map has not observed yet
-// (no surface seen within `observed_radius_m` of them) are the predicted unknown free space.
+// (no surface seen within `observed_radius_m` of them, or only poorly observed surface when
+// `poorly_observed_is_unknown`) are the predicted unknown free space.
 // A viewpoint's gain is the predicted unknown free area within `sensor_range_m` (horizontal) of
 // it; its utility is gain / (L(X_r, V) + length_offset_m). The robot goes to the viewpoint of
 // highest utility (ties: the nearer one). Walls of the sketch are not ray cast: the gain is an
@@ -22,6 +23,9 @@ struct GreedyPriorConfig {
   double sensor_range_m = 10.0;
   /// A predicted free sample counts as observed when the map saw surface this close to it [m].
   double observed_radius_m = 1.0;
+  /// Count samples whose surroundings are only poorly observed as unknown (the other modes
+  /// also revisit poorly observed surface, EPIC's criterion); false: any observation counts.
+  bool poorly_observed_is_unknown = true;
   /// utility = gain / (path length + this) [m]; keeps a viewpoint at the robot finite.
   double length_offset_m = 1.0;
   void validate() const;
