@@ -1,0 +1,126 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// The stateful trajectory server of paper Sec. VI-E, shared by the ROS node and in-process
+// missions: it owns the local grid (fed with registered scans), the current goal and the current
+// trajectory, decides when to replan and samples the reference (PositionCommand content).
+//
+// Replanning policy, evaluated by update(time_s, state):
+//   * a new goal, a collision predicted on the current trajectory by the last scan(s)
+//     (within collision_check_horizon_s), the replan period elapsed, or the trajectory ending
+//     sooner than replan_horizon_remaining_s while the goal is not reached;
+//   * the plan starts from the reference at time_s + plan_from_future_s (the compute latency),
+//     so p, v, a are continuous at the switch; the previous trajectory keeps being sampled until
+//     then. Without a reference, or when the vehicle is farther than max_tracking_error_m from
+//     it (a kick, a crash into the wall of reality), the plan starts from the vehicle state;
+//   * a failed plan switches to the planner's emergency stop (braking at the acceleration limit)
+//     once; while stopping, later failures keep the same stop so the reference stays smooth.
+// Time is injected; nothing here reads a clock.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "minco_traj/local_grid.h"
+#include "minco_traj/local_planner.h"
+#include "minco_traj/trajectory.h"
+
+namespace efs::traj {
+
+struct TrajectoryServerConfig {
+  LocalPlannerConfig planner;
+  LocalGridConfig grid;
+  double replan_period_s = 1.0;             ///< replan at least this often while flying to a goal
+  double replan_horizon_remaining_s = 0.5;  ///< replan when the trajectory ends sooner than this
+  double collision_check_horizon_s = 2.0;   ///< collision prediction on each new scan
+  double goal_reached_m = 0.3;
+  double plan_from_future_s = 0.05;   ///< start state sampled this far ahead (compute latency)
+  double max_tracking_error_m = 1.0;  ///< farther from the reference: plan from the vehicle state
+  /// The grid window follows the sensor in horizontal steps of this size (vertical: a quarter
+  /// of the window height); recentring costs a pass over the window.
+  double recenter_distance_m = 2.0;
+  void validate() const;
+};
+
+/// Content of a PositionCommand.
+struct ReferenceSample {
+  Eigen::Vector3d p_world_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_world_mps = Eigen::Vector3d::Zero();
+  Eigen::Vector3d a_world_mps2 = Eigen::Vector3d::Zero();
+  Eigen::Vector3d j_world_mps3 = Eigen::Vector3d::Zero();
+  double yaw_rad = 0.0;
+  double yaw_rate_radps = 0.0;
+  bool valid = false;  ///< false until the first trajectory / hold point exists
+};
+
+enum class ServerEvent { kNone, kReplanned, kEmergencyStop, kGoalReached, kRejectedInput };
+const char* toString(ServerEvent e);
+
+struct VehicleState {
+  Eigen::Vector3d p_world_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_world_mps = Eigen::Vector3d::Zero();
+  Eigen::Vector3d a_world_mps2 = Eigen::Vector3d::Zero();
+  double yaw_rad = 0.0;
+};
+
+class TrajectoryServer {
+ public:
+  explicit TrajectoryServer(const TrajectoryServerConfig& config = {});
+  const TrajectoryServerConfig& config() const { return cfg_; }
+
+  /// One registered scan (world frame) and the sensor origin: local grid update (window
+  /// recentred on the sensor) + collision prediction of the current trajectory -> replan flag.
+  /// Non-finite points are skipped; a non-finite origin rejects the scan (lastMessage()).
+  void insertScan(const Eigen::Vector3d& sensor_origin_world_m,
+                  const std::vector<Eigen::Vector3f>& points_world_m);
+  /// New target (look_at optional: where the sensor should point; the goal otherwise).
+  /// Non-finite -> kRejectedInput with a message, the previous goal is kept.
+  ServerEvent setGoal(const Eigen::Vector3d& goal_world_m,
+                      std::optional<Eigen::Vector3d> look_at_world_m, double time_s);
+  /// Drops the goal and brakes to a hold from the current reference.
+  void clearGoal(double time_s);
+  /// Replans when due from the reference state at time_s (continuity), or from `state` when
+  /// there is no valid reference yet. Non-finite time or state -> kRejectedInput.
+  ServerEvent update(double time_s, const VehicleState& state);
+  /// Reference at time_s; holds the end point after the trajectory ends.
+  ReferenceSample sample(double time_s) const;
+
+  /// The newest trajectory (nullptr before the first one) and its start time.
+  const Trajectory* current() const { return current_ ? &*current_ : nullptr; }
+  double currentStart_s() const { return current_start_s_; }
+  /// The last planner result (nullptr before the first plan).
+  const PlanResult* lastPlan() const { return last_plan_ ? &*last_plan_ : nullptr; }
+  const LocalGrid& grid() const { return grid_; }
+  LocalGrid& mutableGrid() { return grid_; }
+  const std::optional<Eigen::Vector3d>& goal() const { return goal_; }
+  bool stopping() const { return stopping_; }
+  const std::string& lastMessage() const { return message_; }
+  int replanCount() const { return replans_; }
+
+ private:
+  /// Plans from the reference (or `state`) at time_s + plan_from_future_s.
+  ServerEvent replan(double time_s, const VehicleState& state, const std::string& reason);
+  void install(Trajectory traj, double start_s);
+  /// Recentres the grid on p when p is outside the window, or when may_move and p is more than
+  /// recenter_distance_m from the window centre.
+  void followWith(const Eigen::Vector3d& p_world_m, bool may_move);
+  std::optional<ReferenceSample> referenceAt(double time_s) const;
+
+  TrajectoryServerConfig cfg_;
+  LocalGrid grid_;
+  LocalPlanner planner_;
+  std::optional<Trajectory> current_, previous_;
+  double current_start_s_ = 0.0, previous_start_s_ = 0.0;
+  std::optional<PlanResult> last_plan_;
+  std::optional<Eigen::Vector3d> goal_, look_at_;
+  bool new_goal_ = false;
+  bool collision_predicted_ = false;
+  bool stopping_ = false;
+  double last_replan_s_ = 0.0;
+  std::optional<double> last_update_s_;
+  int replans_ = 0;
+  std::string message_;
+};
+
+}  // namespace efs::traj

@@ -1,0 +1,253 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "minco_traj/trajectory_server.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "efs_common/config_check.h"
+
+namespace efs::traj {
+
+void TrajectoryServerConfig::validate() const {
+  planner.validate();
+  grid.validate();
+  requireInRange("trajectory_server.replan_period_s", replan_period_s, 0.01, 100.0);
+  requireInRange("trajectory_server.replan_horizon_remaining_s", replan_horizon_remaining_s, 0.0,
+                 100.0);
+  requireInRange("trajectory_server.collision_check_horizon_s", collision_check_horizon_s, 0.0,
+                 100.0);
+  requireInRange("trajectory_server.goal_reached_m", goal_reached_m, 0.01, 100.0);
+  requireInRange("trajectory_server.plan_from_future_s", plan_from_future_s, 0.0, 1.0);
+  requireInRange("trajectory_server.max_tracking_error_m", max_tracking_error_m, 0.01, 100.0);
+  requireInRange("trajectory_server.recenter_distance_m", recenter_distance_m, 0.0,
+                 0.5 * std::min(grid.size_x_m, grid.size_y_m));
+}
+
+const char* toString(ServerEvent e) {
+  switch (e) {
+    case ServerEvent::kNone:
+      return "none";
+    case ServerEvent::kReplanned:
+      return "replanned";
+    case ServerEvent::kEmergencyStop:
+      return "emergency_stop";
+    case ServerEvent::kGoalReached:
+      return "goal_reached";
+    case ServerEvent::kRejectedInput:
+      return "rejected_input";
+  }
+  return "?";
+}
+
+namespace {
+
+const TrajectoryServerConfig& validated(const TrajectoryServerConfig& c) {
+  c.validate();
+  return c;
+}
+
+std::string vecString(const Eigen::Vector3d& v) {
+  std::ostringstream os;
+  os << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return os.str();
+}
+
+}  // namespace
+
+TrajectoryServer::TrajectoryServer(const TrajectoryServerConfig& config)
+    : cfg_(validated(config)), grid_(cfg_.grid, Eigen::Vector3d::Zero()), planner_(cfg_.planner) {}
+
+void TrajectoryServer::followWith(const Eigen::Vector3d& p_world_m, bool may_move) {
+  const Eigen::Vector3d offset = p_world_m - 0.5 * (grid_.windowMin() + grid_.windowMax());
+  const bool far = offset.head<2>().norm() > cfg_.recenter_distance_m ||
+                   std::abs(offset.z()) > 0.25 * cfg_.grid.size_z_m;
+  if ((may_move && far) || !grid_.inWindow(p_world_m)) grid_.recenter(p_world_m);
+}
+
+void TrajectoryServer::insertScan(const Eigen::Vector3d& sensor_origin_world_m,
+                                  const std::vector<Eigen::Vector3f>& points_world_m) {
+  if (!sensor_origin_world_m.allFinite()) {
+    message_ = "scan rejected: non-finite sensor origin";
+    return;
+  }
+  followWith(sensor_origin_world_m, true);
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(points_world_m.size());
+  size_t skipped = 0;
+  for (const auto& p : points_world_m) {
+    if (p.allFinite())
+      points.push_back(p.cast<double>());
+    else
+      ++skipped;
+  }
+  if (skipped > 0) message_ = "scan: skipped " + std::to_string(skipped) + " non-finite points";
+  grid_.insertScan(sensor_origin_world_m, points);
+
+  if (goal_ && current_ && !stopping_ && last_update_s_) {
+    const double t_from = std::max(0.0, *last_update_s_ - current_start_s_);
+    const double t_hit =
+        LocalPlanner::firstCollisionTime(*current_, grid_, t_from, cfg_.collision_check_horizon_s);
+    if (t_hit >= 0.0) {
+      collision_predicted_ = true;
+      message_ = "collision predicted at " + vecString(current_->position(t_hit)) + " in " +
+                 std::to_string(t_hit - t_from) + " s";
+    }
+  }
+}
+
+ServerEvent TrajectoryServer::setGoal(const Eigen::Vector3d& goal_world_m,
+                                      std::optional<Eigen::Vector3d> look_at_world_m,
+                                      double time_s) {
+  if (!goal_world_m.allFinite() || (look_at_world_m && !look_at_world_m->allFinite()) ||
+      !std::isfinite(time_s)) {
+    message_ = "goal rejected: non-finite goal " + vecString(goal_world_m) +
+               (look_at_world_m ? ", look-at " + vecString(*look_at_world_m) : std::string()) +
+               " or time";
+    return ServerEvent::kRejectedInput;
+  }
+  goal_ = goal_world_m;
+  look_at_ = look_at_world_m;
+  new_goal_ = true;
+  message_ = "new goal " + vecString(goal_world_m);
+  return ServerEvent::kNone;
+}
+
+void TrajectoryServer::clearGoal(double time_s) {
+  goal_.reset();
+  look_at_.reset();
+  new_goal_ = false;
+  collision_predicted_ = false;
+  const std::optional<ReferenceSample> ref = referenceAt(time_s);
+  if (!ref || !std::isfinite(time_s)) return;
+  const double decel = cfg_.planner.emergency_decel_mps2 > 0.0 ? cfg_.planner.emergency_decel_mps2
+                                                               : cfg_.planner.optimizer.a_max_mps2;
+  install(emergencyStop(ref->p_world_m, ref->v_world_mps, decel, ref->yaw_rad), time_s);
+  message_ = "goal cleared: holding";
+}
+
+std::optional<ReferenceSample> TrajectoryServer::referenceAt(double time_s) const {
+  const bool use_previous = previous_ && time_s < current_start_s_;
+  const Trajectory* traj = use_previous ? &*previous_ : current();
+  if (!traj || traj->empty()) return std::nullopt;
+  const double start = use_previous ? previous_start_s_ : current_start_s_;
+  const TrajectoryPoint pt = traj->sample(std::max(0.0, time_s - start));
+  ReferenceSample s;
+  s.p_world_m = pt.p_world_m;
+  s.v_world_mps = pt.v_world_mps;
+  s.a_world_mps2 = pt.a_world_mps2;
+  s.j_world_mps3 = pt.j_world_mps3;
+  s.yaw_rad = pt.yaw_rad;
+  s.yaw_rate_radps = pt.yaw_rate_radps;
+  s.valid = true;
+  return s;
+}
+
+ReferenceSample TrajectoryServer::sample(double time_s) const {
+  if (!std::isfinite(time_s)) return {};
+  return referenceAt(time_s).value_or(ReferenceSample{});
+}
+
+void TrajectoryServer::install(Trajectory traj, double start_s) {
+  previous_ = std::move(current_);
+  previous_start_s_ = current_start_s_;
+  current_ = std::move(traj);
+  current_start_s_ = start_s;
+}
+
+ServerEvent TrajectoryServer::update(double time_s, const VehicleState& state) {
+  if (!std::isfinite(time_s) || !state.p_world_m.allFinite() || !state.v_world_mps.allFinite() ||
+      !state.a_world_mps2.allFinite() || !std::isfinite(state.yaw_rad)) {
+    message_ = "update rejected: non-finite time or vehicle state";
+    return ServerEvent::kRejectedInput;
+  }
+  last_update_s_ = time_s;
+  if (!goal_) return ServerEvent::kNone;
+
+  std::string reason;
+  if (new_goal_) {
+    reason = "new goal";
+  } else if (collision_predicted_) {
+    reason = "collision predicted";
+  } else if (current_) {
+    const double remaining_s = current_start_s_ + current_->duration() - time_s;
+    const Eigen::Vector3d end_m = current_->position(current_->duration());
+    // A goal moved out of an obstacle counts as reached at its substitute; a goal beyond the
+    // window does not (the window follows the vehicle and the next plan gets closer).
+    const bool ends_at_goal =
+        (end_m - *goal_).norm() <= cfg_.goal_reached_m ||
+        (last_plan_ && last_plan_->ok() && last_plan_->goal_adjusted && grid_.inWindow(*goal_));
+    if (!stopping_ && ends_at_goal && remaining_s <= 0.0 &&
+        (state.p_world_m - end_m).norm() <= cfg_.goal_reached_m) {
+      goal_.reset();
+      look_at_.reset();
+      message_ = "goal reached at " + vecString(end_m);
+      return ServerEvent::kGoalReached;
+    }
+    if (!ends_at_goal && remaining_s < cfg_.replan_horizon_remaining_s)
+      reason = "horizon running out";
+    else if (time_s - last_replan_s_ >= cfg_.replan_period_s &&
+             (stopping_ || !ends_at_goal || remaining_s > cfg_.replan_horizon_remaining_s))
+      reason = stopping_ ? "retry after emergency stop" : "replan period";
+  } else {
+    reason = "no trajectory";
+  }
+  if (reason.empty()) return ServerEvent::kNone;
+  return replan(time_s, state, reason);
+}
+
+ServerEvent TrajectoryServer::replan(double time_s, const VehicleState& state,
+                                     const std::string& reason) {
+  new_goal_ = false;
+  const bool collision = collision_predicted_;
+  collision_predicted_ = false;
+  last_replan_s_ = time_s;
+
+  PlanRequest req;
+  double start_s = time_s;
+  const std::optional<ReferenceSample> now = referenceAt(time_s);
+  const bool tracking =
+      now && (now->p_world_m - state.p_world_m).norm() <= cfg_.max_tracking_error_m;
+  if (tracking) {
+    start_s = time_s + cfg_.plan_from_future_s;
+    const ReferenceSample ref = *referenceAt(start_s);
+    req.p_world_m = ref.p_world_m;
+    req.v_world_mps = ref.v_world_mps;
+    req.a_world_mps2 = ref.a_world_mps2;
+    req.yaw_rad = ref.yaw_rad;
+    req.yaw_rate_radps = ref.yaw_rate_radps;
+  } else {
+    req.p_world_m = state.p_world_m;
+    req.v_world_mps = state.v_world_mps;
+    req.a_world_mps2 = state.a_world_mps2;
+    req.yaw_rad = state.yaw_rad;
+  }
+  req.goal_world_m = *goal_;
+  if (look_at_) {
+    req.has_look_at = true;
+    req.look_at_world_m = *look_at_;
+  }
+  // Without scans the window would not follow the vehicle toward a goal beyond it.
+  followWith(req.p_world_m, !grid_.inWindow(req.p_world_m) || !grid_.inWindow(*goal_));
+
+  PlanResult result = planner_.plan(grid_, req);
+  ++replans_;
+  if (result.ok()) {
+    install(result.trajectory, start_s);
+    stopping_ = false;
+    message_ = "replanned (" + reason + ")" + (result.goal_adjusted ? ", goal adjusted" : "");
+    last_plan_ = std::move(result);
+    return ServerEvent::kReplanned;
+  }
+  message_ = "plan failed (" + reason + "): " + std::string(toString(result.status)) + ": " +
+             result.message;
+  // Already braking and nothing new threatens the stop: keep it, the reference stays smooth.
+  const bool keep_stop = stopping_ && !collision && tracking;
+  if (!keep_stop && !result.trajectory.empty()) install(result.trajectory, start_s);
+  last_plan_ = std::move(result);
+  if (keep_stop) return ServerEvent::kNone;
+  stopping_ = true;
+  return ServerEvent::kEmergencyStop;
+}
+
+}  // namespace efs::traj
