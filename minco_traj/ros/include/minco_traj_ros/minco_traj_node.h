@@ -1,0 +1,56 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// ROS wrapper of TrajectoryServer: scans and odometry in, exploration targets in, the current
+// PolynomialTrajectory (on every replan), a PositionCommand stream at command_rate_hz (ROS time,
+// so simulated time works) and visualisation markers out. Bad input (NaN target, cloud without
+// xyz, NaN odometry) is refused with a throttled warning; the node keeps running and keeps
+// commanding the last valid reference.
+#pragma once
+
+#include <geometry_msgs/PoseStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+
+#include <optional>
+#include <string>
+
+#include "minco_traj/trajectory_server.h"
+
+namespace efs::traj {
+
+struct MincoTrajNodeConfig {
+  std::string world_frame = "world";
+  double command_rate_hz = 100.0;
+  double odom_timeout_s = 0.2;         ///< older odometry does not drive replanning
+  double look_at_distance_m = 1000.0;  ///< target orientation -> look-at point this far ahead
+  double marker_dt_s = 0.05;
+  TrajectoryServerConfig server;
+};
+
+MincoTrajNodeConfig loadMincoTrajNodeConfig(const ros::NodeHandle& private_nh);
+
+class MincoTrajNode {
+ public:
+  MincoTrajNode(ros::NodeHandle nh, const MincoTrajNodeConfig& config);
+
+ private:
+  void onScan(const sensor_msgs::PointCloud2::ConstPtr& msg);
+  void onOdom(const nav_msgs::Odometry::ConstPtr& msg);
+  void onTarget(const geometry_msgs::PoseStamped::ConstPtr& msg);
+  void onTimer(const ros::TimerEvent&);
+  void publishTrajectory(const ros::Time& now, ServerEvent event);
+
+  MincoTrajNodeConfig config_;
+  TrajectoryServer server_;
+  std::optional<VehicleState> state_;
+  ros::Time state_stamp_;
+  uint32_t trajectory_id_ = 0;
+  bool goal_reached_ = false;
+
+  ros::Subscriber scan_sub_, odom_sub_, target_sub_;
+  ros::Publisher traj_pub_, cmd_pub_, marker_pub_;
+  ros::Timer timer_;
+};
+
+}  // namespace efs::traj

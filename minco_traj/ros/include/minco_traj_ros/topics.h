@@ -1,0 +1,17 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// Topics of minco_traj_node, relative to its namespace; remap them in launch files.
+#pragma once
+
+namespace efs::traj::topics {
+
+// Inputs
+constexpr const char* kScanWorld = "scan_world";       // sensor_msgs/PointCloud2, world frame
+constexpr const char* kOdom = "odom";                  // nav_msgs/Odometry, world frame, with twist
+constexpr const char* kTarget = "exploration_target";  // geometry_msgs/PoseStamped, world frame
+// Outputs
+constexpr const char* kTrajectory = "trajectory";         // PolynomialTrajectory
+constexpr const char* kPositionCommand = "position_cmd";  // PositionCommand
+constexpr const char* kMarkers = "traj_markers";          // visualization_msgs/MarkerArray
+
+}  // namespace efs::traj::topics

@@ -1,0 +1,163 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "minco_traj_ros/minco_traj_node.h"
+
+#include <cmath>
+
+#include "efs_common_ros/cloud_conversions.h"
+#include "efs_common_ros/param_reader.h"
+#include "minco_traj_ros/topics.h"
+#include "minco_traj_ros/traj_messages.h"
+
+namespace efs::traj {
+
+MincoTrajNodeConfig loadMincoTrajNodeConfig(const ros::NodeHandle& private_nh) {
+  ros_common::ParamReader p(private_nh);
+  MincoTrajNodeConfig c;
+  TrajectoryServerConfig& s = c.server;
+  p.get("world_frame", c.world_frame);
+  p.get("command_rate_hz", c.command_rate_hz);
+  p.get("odom_timeout_s", c.odom_timeout_s);
+  p.get("look_at_distance_m", c.look_at_distance_m);
+  p.get("marker_dt_s", c.marker_dt_s);
+  p.get("replan_period_s", s.replan_period_s);
+  p.get("replan_horizon_remaining_s", s.replan_horizon_remaining_s);
+  p.get("collision_check_horizon_s", s.collision_check_horizon_s);
+  p.get("goal_reached_m", s.goal_reached_m);
+  p.get("plan_from_future_s", s.plan_from_future_s);
+  p.get("max_tracking_error_m", s.max_tracking_error_m);
+  p.get("recenter_distance_m", s.recenter_distance_m);
+  p.get("grid/resolution_m", s.grid.resolution_m);
+  p.get("grid/size_x_m", s.grid.size_x_m);
+  p.get("grid/size_y_m", s.grid.size_y_m);
+  p.get("grid/size_z_m", s.grid.size_z_m);
+  p.get("grid/inflation_radius_m", s.grid.inflation_radius_m);
+  p.get("grid/max_ray_length_m", s.grid.max_ray_length_m);
+  p.get("astar/unknown_is_free", s.planner.astar.unknown_is_free);
+  p.get("astar/goal_search_radius_m", s.planner.astar.goal_search_radius_m);
+  p.get("astar/start_escape_radius_m", s.planner.astar.start_escape_radius_m);
+  p.get("astar/heuristic_weight", s.planner.astar.heuristic_weight);
+  p.get("corridor/clearance_m", s.planner.corridor.clearance_m);
+  p.get("corridor/box_margin_m", s.planner.corridor.box_margin_m);
+  p.get("corridor/max_seed_length_m", s.planner.corridor.max_seed_length_m);
+  p.get("optimizer/v_max_mps", s.planner.optimizer.v_max_mps);
+  p.get("optimizer/a_max_mps2", s.planner.optimizer.a_max_mps2);
+  p.get("optimizer/weight_time", s.planner.optimizer.weight_time);
+  p.get("yaw/yaw_rate_max_radps", s.planner.yaw.yaw_rate_max_radps);
+  p.get("yaw/yaw_acc_max_radps2", s.planner.yaw.yaw_acc_max_radps2);
+  p.get("emergency_decel_mps2", s.planner.emergency_decel_mps2);
+  p.rejectUnknown();
+  requireThat(!c.world_frame.empty(), "world_frame", "must not be empty");
+  requireInRange("command_rate_hz", c.command_rate_hz, 1.0, 1000.0);
+  requireInRange("odom_timeout_s", c.odom_timeout_s, 1e-3, 10.0);
+  requireInRange("look_at_distance_m", c.look_at_distance_m, 1.0, 1e6);
+  requireInRange("marker_dt_s", c.marker_dt_s, 1e-3, 10.0);
+  s.validate();
+  return c;
+}
+
+MincoTrajNode::MincoTrajNode(ros::NodeHandle nh, const MincoTrajNodeConfig& config)
+    : config_(config), server_(config.server) {
+  traj_pub_ = nh.advertise<explore_from_sketch::PolynomialTrajectory>(topics::kTrajectory, 5, true);
+  cmd_pub_ = nh.advertise<explore_from_sketch::PositionCommand>(topics::kPositionCommand, 10);
+  marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>(topics::kMarkers, 2, true);
+  scan_sub_ = nh.subscribe(topics::kScanWorld, 5, &MincoTrajNode::onScan, this);
+  odom_sub_ = nh.subscribe(topics::kOdom, 50, &MincoTrajNode::onOdom, this);
+  target_sub_ = nh.subscribe(topics::kTarget, 5, &MincoTrajNode::onTarget, this);
+  timer_ =
+      nh.createTimer(ros::Duration(1.0 / config_.command_rate_hz), &MincoTrajNode::onTimer, this);
+}
+
+void MincoTrajNode::onScan(const sensor_msgs::PointCloud2::ConstPtr& msg) {
+  if (!state_) return;  // the sensor origin comes from odometry
+  std::vector<Eigen::Vector3f> points;
+  try {
+    points = ros_common::fromPointCloud2(*msg);
+  } catch (const std::exception& e) {
+    ROS_WARN_THROTTLE(1.0, "minco_traj: scan rejected: %s", e.what());
+    return;
+  }
+  server_.insertScan(state_->p_world_m, points);
+}
+
+void MincoTrajNode::onOdom(const nav_msgs::Odometry::ConstPtr& msg) {
+  VehicleState s;
+  const auto& p = msg->pose.pose.position;
+  const auto& q = msg->pose.pose.orientation;
+  const auto& v = msg->twist.twist.linear;
+  s.p_world_m = {p.x, p.y, p.z};
+  s.v_world_mps = {v.x, v.y, v.z};
+  s.yaw_rad = std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+  if (!s.p_world_m.allFinite() || !s.v_world_mps.allFinite() || !std::isfinite(s.yaw_rad)) {
+    ROS_WARN_THROTTLE(1.0, "minco_traj: odometry rejected: non-finite pose or twist");
+    return;
+  }
+  state_ = s;
+  state_stamp_ = msg->header.stamp.isZero() ? ros::Time::now() : msg->header.stamp;
+}
+
+void MincoTrajNode::onTarget(const geometry_msgs::PoseStamped::ConstPtr& msg) {
+  const auto& p = msg->pose.position;
+  const auto& q = msg->pose.orientation;
+  const Eigen::Vector3d goal(p.x, p.y, p.z);
+  std::optional<Eigen::Vector3d> look_at;
+  const double qn = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  if (std::isfinite(qn) && qn > 1e-6) {  // an all-zero orientation means "look at the goal"
+    const double yaw =
+        std::atan2(2.0 * (q.w * q.z + q.x * q.y), q.w * q.w + q.x * q.x - q.y * q.y - q.z * q.z);
+    look_at = goal + config_.look_at_distance_m * Eigen::Vector3d(std::cos(yaw), std::sin(yaw), 0);
+  } else if (!std::isfinite(qn)) {
+    look_at = Eigen::Vector3d::Constant(qn);  // rejected below with the goal
+  }
+  if (server_.setGoal(goal, look_at, ros::Time::now().toSec()) == ServerEvent::kRejectedInput) {
+    ROS_WARN("minco_traj: target rejected: %s", server_.lastMessage().c_str());
+    return;
+  }
+  goal_reached_ = false;
+  ROS_INFO("minco_traj: %s", server_.lastMessage().c_str());
+}
+
+void MincoTrajNode::onTimer(const ros::TimerEvent&) {
+  const ros::Time now = ros::Time::now();
+  const double t = now.toSec();
+  if (state_ && (now - state_stamp_).toSec() <= config_.odom_timeout_s) {
+    const ServerEvent e = server_.update(t, *state_);
+    if (e == ServerEvent::kReplanned || e == ServerEvent::kEmergencyStop) publishTrajectory(now, e);
+    if (e == ServerEvent::kEmergencyStop)
+      ROS_WARN("minco_traj: emergency stop: %s", server_.lastMessage().c_str());
+    if (e == ServerEvent::kRejectedInput)
+      ROS_WARN_THROTTLE(1.0, "minco_traj: %s", server_.lastMessage().c_str());
+    if (e == ServerEvent::kGoalReached) {
+      goal_reached_ = true;
+      ROS_INFO("minco_traj: %s", server_.lastMessage().c_str());
+    }
+  } else if (server_.goal()) {
+    ROS_WARN_THROTTLE(1.0, "minco_traj: no recent odometry; not replanning");
+  }
+  const ReferenceSample s = server_.sample(t);
+  if (!s.valid) return;
+  std_msgs::Header h;
+  h.stamp = now;
+  h.frame_id = config_.world_frame;
+  using Cmd = explore_from_sketch::PositionCommand;
+  const uint8_t flag = server_.stopping() ? Cmd::TRAJECTROY_STATUS_ABORT
+                       : goal_reached_    ? Cmd::TRAJECTORY_STATUS_COMPLETED
+                                          : Cmd::TRAJECTORY_STATUS_READY;
+  cmd_pub_.publish(toPositionCommand(s, trajectory_id_, flag, h));
+}
+
+void MincoTrajNode::publishTrajectory(const ros::Time& now, ServerEvent event) {
+  const Trajectory* traj = server_.current();
+  if (!traj) return;
+  ++trajectory_id_;
+  std_msgs::Header h;
+  h.stamp = ros::Time(server_.currentStart_s());
+  h.frame_id = config_.world_frame;
+  traj_pub_.publish(toPolynomialTrajectory(
+      *traj, trajectory_id_, h, std::string(toString(event)) + ": " + server_.lastMessage()));
+  if (marker_pub_.getNumSubscribers() > 0 && server_.lastPlan()) {
+    h.stamp = now;
+    marker_pub_.publish(planMarkers(*server_.lastPlan(), *traj, h, config_.marker_dt_s));
+  }
+}
+
+}  // namespace efs::traj

@@ -1,0 +1,158 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// minco_traj_node with a perfectly tracking vehicle played by the test (odometry = the last
+// commanded position): a target gives a PositionCommand stream at ~100 Hz that reaches it, the
+// published PolynomialTrajectory reproduces the commands (message round trip), a wall seen in
+// scan_world is avoided with clearance, and a NaN target is refused while the node keeps going.
+#include <explore_from_sketch/PolynomialTrajectory.h>
+#include <explore_from_sketch/PositionCommand.h>
+#include <geometry_msgs/PoseStamped.h>
+#include <gtest/gtest.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "efs_common_ros/cloud_conversions.h"
+#include "minco_traj_ros/traj_messages.h"
+#include "ros_test_utils.h"
+
+namespace {
+
+using explore_from_sketch::PolynomialTrajectory;
+using explore_from_sketch::PositionCommand;
+
+class MincoTrajNodeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    odom_pub_ = nh_.advertise<nav_msgs::Odometry>("odom", 10);
+    scan_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("scan_world", 2, true);
+    target_pub_ = nh_.advertise<geometry_msgs::PoseStamped>("exploration_target", 2);
+    cmd_sub_ = nh_.subscribe("position_cmd", 200, &MincoTrajNodeTest::onCmd, this);
+    traj_sub_ = nh_.subscribe("trajectory", 20, &MincoTrajNodeTest::onTraj, this);
+    marker_sub_ = nh_.subscribe("traj_markers", 5, &MincoTrajNodeTest::onMarkers, this);
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(20.0);
+    while ((odom_pub_.getNumSubscribers() == 0 || target_pub_.getNumSubscribers() == 0 ||
+            scan_pub_.getNumSubscribers() == 0) &&
+           ros::WallTime::now() < end)
+      ros::WallDuration(0.05).sleep();
+  }
+
+  void onCmd(const PositionCommand::ConstPtr& m) {
+    cmds_.push_back(*m);
+    p_ = {m->position.x, m->position.y, m->position.z};
+  }
+  void onTraj(const PolynomialTrajectory::ConstPtr& m) { trajs_[m->trajectory_id] = *m; }
+  void onMarkers(const visualization_msgs::MarkerArray::ConstPtr& m) { markers_ = *m; }
+
+  // Plays the vehicle for `seconds`: odometry at 100 Hz at the last commanded position.
+  void fly(double seconds) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::WallTime::now() < end) {
+      nav_msgs::Odometry o;
+      o.header.stamp = ros::Time::now();
+      o.header.frame_id = "world";
+      o.pose.pose.position.x = p_.x();
+      o.pose.pose.position.y = p_.y();
+      o.pose.pose.position.z = p_.z();
+      o.pose.pose.orientation.w = 1.0;
+      odom_pub_.publish(o);
+      ros::spinOnce();
+      ros::WallDuration(0.01).sleep();
+    }
+  }
+
+  void sendTarget(double x, double y, double z) {
+    geometry_msgs::PoseStamped t;
+    t.header.stamp = ros::Time::now();
+    t.header.frame_id = "world";
+    t.pose.position.x = x;
+    t.pose.position.y = y;
+    t.pose.position.z = z;
+    t.pose.orientation.w = 1.0;  // yaw 0
+    target_pub_.publish(t);
+  }
+
+  ros::NodeHandle nh_;
+  ros::Publisher odom_pub_, scan_pub_, target_pub_;
+  ros::Subscriber cmd_sub_, traj_sub_, marker_sub_;
+  std::vector<PositionCommand> cmds_;
+  std::map<uint32_t, PolynomialTrajectory> trajs_;
+  visualization_msgs::MarkerArray markers_;
+  Eigen::Vector3d p_{0.0, 0.0, 1.0};
+};
+
+std::vector<Eigen::Vector3f> wall() {
+  std::vector<Eigen::Vector3f> pts;
+  for (float y = -1.0f; y <= 1.0f; y += 0.05f)
+    for (float z = 0.0f; z <= 2.0f; z += 0.05f) pts.emplace_back(2.5f, y, z);
+  return pts;
+}
+
+TEST_F(MincoTrajNodeTest, FliesToTargetsAroundAWallAndRefusesNan) {
+  fly(0.5);
+  EXPECT_TRUE(cmds_.empty()) << "commands before any target";
+
+  std_msgs::Header h;
+  h.stamp = ros::Time::now();
+  h.frame_id = "world";
+  scan_pub_.publish(efs::ros_common::toPointCloud2(wall(), h));
+  fly(0.5);
+  const Eigen::Vector3d goal(5.0, 0.0, 1.0);
+  sendTarget(goal.x(), goal.y(), goal.z());
+  fly(2.0);
+  ASSERT_FALSE(cmds_.empty()) << "no position_cmd after a target";
+  // ~100 Hz (loose bounds: the test shares the CPU).
+  const double span_s = (cmds_.back().header.stamp - cmds_.front().header.stamp).toSec();
+  ASSERT_GT(span_s, 1.0);
+  const double rate_hz = (cmds_.size() - 1) / span_s;
+  EXPECT_GT(rate_hz, 60.0);
+  EXPECT_LT(rate_hz, 140.0);
+  fly(4.0);
+  EXPECT_LT((p_ - goal).norm(), 0.05) << "did not reach the target: " << p_.transpose();
+  EXPECT_EQ(cmds_.back().trajectory_flag, PositionCommand::TRAJECTORY_STATUS_COMPLETED);
+
+  // Clearance from the wall all the way, and the commands reproduce the published trajectories.
+  const auto pts = wall();
+  double min_dist = 1e9, max_mismatch = 0.0;
+  int checked = 0;
+  for (const auto& c : cmds_) {
+    const Eigen::Vector3d p(c.position.x, c.position.y, c.position.z);
+    for (const auto& w : pts) min_dist = std::min(min_dist, (w.cast<double>() - p).norm());
+    const auto it = trajs_.find(c.trajectory_id);
+    if (it == trajs_.end()) continue;
+    std::string why;
+    const auto traj = efs::traj::fromPolynomialTrajectory(it->second, &why);
+    ASSERT_TRUE(traj) << why;
+    const double t = (c.header.stamp - it->second.header.stamp).toSec();
+    if (t < 0.0) continue;  // the previous trajectory still runs until the switch
+    max_mismatch = std::max(max_mismatch, (traj->position(t) - p).norm());
+    ++checked;
+  }
+  EXPECT_GT(min_dist, 0.25);
+  EXPECT_GT(checked, 100);
+  EXPECT_LT(max_mismatch, 1e-6);
+  EXPECT_FALSE(trajs_.empty());
+
+  // NaN target: refused, the node holds and keeps commanding.
+  efs::rostest::LogCollector logs(nh_);
+  sendTarget(std::numeric_limits<double>::quiet_NaN(), 0.0, 1.0);
+  EXPECT_TRUE(logs.waitFor("/minco_traj", "target rejected", 5.0));
+  const size_t before = cmds_.size();
+  fly(0.5);
+  EXPECT_GT(cmds_.size(), before + 20);
+  EXPECT_LT((p_ - goal).norm(), 0.05);
+  EXPECT_TRUE(efs::rostest::nodeAlive("/minco_traj"));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "minco_traj_rostest");
+  return RUN_ALL_TESTS();
+}
