@@ -1,0 +1,69 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// prior_guided_planner_node: a thin ROS wrapper of efs::planner::ExplorationManager. Scans
+// (world frame, from lio_bridge) and odometry feed the maps; registration hypotheses and the
+// prior bundle (a file; empty path = prior-free) feed the planner; a timer plans with ROS time
+// injected as seconds and publishes the target, the local tour, the status, the guidepoint
+// states and rviz markers. Bad input (malformed or non-finite clouds, odometry going back in
+// time or not finite, hypotheses with NaN or non-positive scale, clouds in another frame) is
+// refused or cleaned with a logged reason; the node keeps running.
+#pragma once
+
+#include <explore_from_sketch/RegistrationHypotheses.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+
+#include <optional>
+#include <string>
+
+#include "prior_guided_planner/exploration_manager.h"
+#include "prior_guided_planner_ros/planner_markers.h"
+
+namespace efs::planner {
+
+struct PriorGuidedPlannerNodeConfig {
+  std::string world_frame = "world";
+  std::string sketch_frame = "sketch";
+  std::string prior_bundle_path;  ///< empty: no sketch, prior-free
+  double predicted_free_spacing_m = 1.0;
+  double plan_rate_hz = 2.0;
+  double odom_timeout_s = 1.0;
+  PlannerMarkerOptions markers;
+  ExplorationManagerConfig exploration;
+};
+
+/// Reads and validates the private parameters (every key of config/prior_guided_planner.yaml);
+/// throws efs::ConfigError naming the key.
+PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle& private_nh);
+
+class PriorGuidedPlannerNode {
+ public:
+  /// Throws when the prior bundle cannot be loaded (the message names the file and the defect).
+  PriorGuidedPlannerNode(ros::NodeHandle nh, const PriorGuidedPlannerNodeConfig& config);
+
+ private:
+  void onOdometry(const nav_msgs::Odometry::ConstPtr& msg);
+  void onScan(const sensor_msgs::PointCloud2::ConstPtr& msg);
+  void onHypotheses(const explore_from_sketch::RegistrationHypotheses::ConstPtr& msg);
+  void onTimer(const ros::TimerEvent&);
+  void publishStatus(const ros::Time& now);
+  void publishGuidepoints(const ros::Time& now);
+  void reject(const std::string& why);
+
+  PriorGuidedPlannerNodeConfig config_;
+  std::optional<ExplorationManager> manager_;
+  std::optional<RobotPose> robot_;
+  std::optional<ros::Time> last_odom_stamp_;
+  std::optional<ros::Time> first_odom_stamp_;
+  double travelled_m_ = 0.0;
+  std::string last_logged_;
+  std::string last_reject_;
+  ros::WallTime last_reject_time_;
+
+  ros::Subscriber odom_sub_, scan_sub_, hyp_sub_;
+  ros::Publisher target_pub_, look_at_pub_, tour_pub_, status_pub_, guidepoints_pub_, markers_pub_;
+  ros::Timer timer_;
+};
+
+}  // namespace efs::planner

@@ -1,0 +1,2 @@
+efs_rostest_gtest(prior_guided_planner_rostest prior_guided_planner.test
+  SOURCES ros/prior_guided_planner_rostest.cpp DEPENDS efs_common_ros)

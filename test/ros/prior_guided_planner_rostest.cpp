@@ -1,0 +1,251 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// prior_guided_planner_node driven with synthetic input: odometry inside a closed corridor room
+// and full-sphere scans ray cast in it (world frame, like lio_bridge's scan_world). A target
+// ahead in the corridor, the tour and the status arrive; bad input (NaN points, a cloud without
+// xyz, a cloud in another frame, a hypothesis with NaN scale, odometry back in time) is logged
+// and the node keeps planning. Bad configuration stops the node cleanly at start-up.
+#include <explore_from_sketch/ExplorationStatus.h>
+#include <explore_from_sketch/RegistrationHypotheses.h>
+#include <geometry_msgs/PoseStamped.h>
+#include <gtest/gtest.h>
+#include <nav_msgs/Odometry.h>
+#include <nav_msgs/Path.h>
+#include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
+#include <sensor_msgs/PointCloud2.h>
+
+#include <cmath>
+#include <limits>
+
+#include "../../prior_guided_planner/test/observation_map_test_scenes.h"
+#include "efs_common_ros/cloud_conversions.h"
+#include "ros_test_utils.h"
+
+namespace {
+
+using explore_from_sketch::ExplorationStatus;
+
+constexpr const char* kNode = "/prior_guided_planner";
+
+// What the node said, read from /rosout (where every node publishes its log lines; the
+// aggregated /rosout_agg depends on the rosout node relaying them).
+class RosoutCollector {
+ public:
+  explicit RosoutCollector(ros::NodeHandle& nh)
+      : sub_(nh.subscribe("/rosout", 1000, &RosoutCollector::onLog, this)) {}
+  bool waitFor(const std::string& node, const std::string& needle, double timeout_s) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
+    do {
+      ros::spinOnce();
+      for (const auto& m : logs_)
+        if (m.name == node && m.msg.find(needle) != std::string::npos) return true;
+      ros::WallDuration(0.05).sleep();
+    } while (ros::WallTime::now() < end);
+    return false;
+  }
+  size_t size() const { return logs_.size(); }
+
+ private:
+  void onLog(const rosgraph_msgs::Log& m) { logs_.push_back(m); }
+  ros::Subscriber sub_;
+  std::vector<rosgraph_msgs::Log> logs_;
+};
+
+class PlannerNodeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    room_.room = {Eigen::Vector3d(0.15, -2.85, 0.15), Eigen::Vector3d(15.75, 3.15, 3.15)};
+    odom_pub_ = nh_.advertise<nav_msgs::Odometry>("/odom", 10);
+    scan_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("/scan_world", 10);
+    hyp_pub_ = nh_.advertise<explore_from_sketch::RegistrationHypotheses>("/hypotheses", 10);
+    target_sub_ = nh_.subscribe("/exploration_target", 10, &PlannerNodeTest::onTarget, this);
+    tour_sub_ = nh_.subscribe("/exploration_tour", 10, &PlannerNodeTest::onTour, this);
+    status_sub_ = nh_.subscribe("/exploration_status", 10, &PlannerNodeTest::onStatus, this);
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(15.0);
+    while ((odom_pub_.getNumSubscribers() == 0 || scan_pub_.getNumSubscribers() == 0 ||
+            hyp_pub_.getNumSubscribers() == 0) &&
+           ros::WallTime::now() < end) {
+      ros::WallDuration(0.05).sleep();
+    }
+  }
+
+  void publishOdom(const ros::Time& stamp) {
+    nav_msgs::Odometry o;
+    o.header.stamp = stamp;
+    o.header.frame_id = "world";
+    o.pose.pose.position.x = pos_.x();
+    o.pose.pose.position.y = pos_.y();
+    o.pose.pose.position.z = pos_.z();
+    o.pose.pose.orientation.w = 1.0;
+    odom_pub_.publish(o);
+  }
+
+  sensor_msgs::PointCloud2 scan(const std::string& frame) const {
+    std::vector<Eigen::Vector3f> pts;
+    for (const Eigen::Vector3d& p : room_.scanSphere(pos_, 2.0)) pts.push_back(p.cast<float>());
+    std_msgs::Header h;
+    h.stamp = ros::Time::now();
+    h.frame_id = frame;
+    return efs::ros_common::toPointCloud2(pts, h);
+  }
+
+  // Hovers at pos_ for `seconds`: odometry at 20 Hz, a scan at 5 Hz.
+  void hover(double seconds) {
+    const ros::WallTime start = ros::WallTime::now();
+    int i = 0;
+    while ((ros::WallTime::now() - start).toSec() < seconds) {
+      publishOdom(ros::Time::now());
+      if (i++ % 4 == 0) scan_pub_.publish(scan("world"));
+      ros::spinOnce();
+      ros::WallDuration(0.05).sleep();
+    }
+  }
+
+  void spinFor(double seconds) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::WallTime::now() < end) {
+      ros::spinOnce();
+      ros::WallDuration(0.01).sleep();
+    }
+  }
+
+  void onTarget(const geometry_msgs::PoseStamped& m) {
+    last_target_ = m;
+    ++target_count_;
+  }
+  void onTour(const nav_msgs::Path& m) { last_tour_ = m; }
+  void onStatus(const ExplorationStatus& m) {
+    last_status_ = m;
+    ++status_count_;
+  }
+
+  ros::NodeHandle nh_;
+  efs::planner::testing::Scene room_;
+  Eigen::Vector3d pos_{2.0, 0.1, 1.6};
+  ros::Publisher odom_pub_, scan_pub_, hyp_pub_;
+  ros::Subscriber target_sub_, tour_sub_, status_sub_;
+  geometry_msgs::PoseStamped last_target_;
+  nav_msgs::Path last_tour_;
+  ExplorationStatus last_status_;
+  int target_count_ = 0, status_count_ = 0;
+};
+
+TEST_F(PlannerNodeTest, TargetTourAndStatusArrive) {
+  spinFor(0.5);
+  ASSERT_GT(status_count_, 0) << "status is published before any input";
+  EXPECT_EQ(last_status_.state, ExplorationStatus::STATE_INIT);
+  hover(2.0);
+  spinFor(0.5);
+  ASSERT_GT(target_count_, 0);
+  EXPECT_EQ(last_target_.header.frame_id, "world");
+  const auto& p = last_target_.pose.position;
+  EXPECT_GT(p.x, pos_.x());  // the unexplored part of the corridor is ahead
+  EXPECT_LT(p.x, 15.75);
+  EXPECT_GT(p.y, -2.85);
+  EXPECT_LT(p.y, 3.15);
+  EXPECT_NEAR(std::hypot(last_target_.pose.orientation.z, last_target_.pose.orientation.w), 1.0,
+              1e-6);
+  ASSERT_GE(last_tour_.poses.size(), 2u);
+  EXPECT_NEAR(last_tour_.poses[0].pose.position.x, pos_.x(), 1e-6);  // starts at the robot
+  EXPECT_EQ(last_status_.state, ExplorationStatus::STATE_EXPLORING_PRIOR_FREE);
+  EXPECT_FALSE(last_status_.has_active_hypothesis);
+  EXPECT_GT(last_status_.remaining_viewpoints, 0u);
+  EXPECT_GT(last_status_.coverage_estimate, 0.0);
+  EXPECT_LE(last_status_.coverage_estimate, 1.0);
+}
+
+TEST_F(PlannerNodeTest, BadInputIsReportedAndTheNodeKeepsPlanning) {
+  RosoutCollector logs(nh_);
+  hover(1.0);
+
+  // Some NaN points: dropped, counted, said.
+  sensor_msgs::PointCloud2 nan_cloud;
+  {
+    std::vector<Eigen::Vector3f> pts;
+    for (const Eigen::Vector3d& p : room_.scanSphere(pos_, 4.0)) pts.push_back(p.cast<float>());
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    pts.emplace_back(nan, 1.0f, 1.0f);
+    pts.emplace_back(1.0f, nan, nan);
+    std_msgs::Header h;
+    h.stamp = ros::Time::now();
+    h.frame_id = "world";
+    nan_cloud = efs::ros_common::toPointCloud2(pts, h);
+  }
+  scan_pub_.publish(nan_cloud);
+  EXPECT_TRUE(logs.waitFor(kNode, "2 of", 3.0)) << logs.size() << " log lines seen";
+  EXPECT_TRUE(logs.waitFor(kNode, "not finite", 0.1));
+
+  // A cloud without x/y/z fields, and one in another frame: refused.
+  sensor_msgs::PointCloud2 no_xyz;
+  no_xyz.header.stamp = ros::Time::now();
+  no_xyz.header.frame_id = "world";
+  no_xyz.width = 3;
+  no_xyz.height = 1;
+  scan_pub_.publish(no_xyz);
+  EXPECT_TRUE(logs.waitFor(kNode, "scan refused", 3.0));
+  scan_pub_.publish(scan("camera_init"));
+  EXPECT_TRUE(logs.waitFor(kNode, "camera_init", 3.0));
+
+  // A hypothesis with NaN scale: refused by name; the planner stays prior-free.
+  explore_from_sketch::RegistrationHypotheses hyps;
+  hyps.header.stamp = ros::Time::now();
+  hyps.header.frame_id = "world";
+  explore_from_sketch::RegistrationHypothesis h;
+  h.id = 7;
+  h.scale = std::nan("");
+  h.confidence = 1.0;
+  hyps.hypotheses.push_back(h);
+  hyp_pub_.publish(hyps);
+  EXPECT_TRUE(logs.waitFor(kNode, "hypothesis 7 refused", 3.0));
+
+  // Odometry going back in time: refused.
+  const ros::Time now = ros::Time::now();
+  publishOdom(now);
+  spinFor(0.2);
+  publishOdom(now - ros::Duration(5.0));
+  EXPECT_TRUE(logs.waitFor(kNode, "back in time", 3.0));
+
+  // Silence: the odometry goes stale and the node says so instead of planning on it.
+  spinFor(1.5);
+  EXPECT_TRUE(logs.waitFor(kNode, "odometry is stale", 1.0));
+
+  // Still alive and planning.
+  const int targets = target_count_;
+  const int statuses = status_count_;
+  hover(1.5);
+  spinFor(0.3);
+  EXPECT_TRUE(efs::rostest::nodeAlive(kNode));
+  EXPECT_GT(status_count_, statuses);
+  EXPECT_GT(target_count_, targets);
+  EXPECT_EQ(last_status_.state, ExplorationStatus::STATE_EXPLORING_PRIOR_FREE);
+  EXPECT_FALSE(last_status_.has_active_hypothesis);
+}
+
+// Bad configuration stops the node at start-up with one message naming the parameter.
+// `_key:=value` arguments stay on the parameter server: each run clears the one it set.
+TEST(PlannerNodeConfig, BadModeAndMissingBundleStopCleanly) {
+  const std::string ns = "/prior_guided_planner_node_under_test/";
+  const auto mode = efs::rostest::runNode("prior_guided_planner_node", "_mode:=epic", 20);
+  EXPECT_EQ(mode.exit_code, 1) << mode.output;
+  EXPECT_NE(mode.output.find("mode"), std::string::npos) << mode.output;
+  EXPECT_NE(mode.output.find("nearest_frontier"), std::string::npos) << mode.output;
+  ros::param::del(ns + "mode");
+  const auto bundle = efs::rostest::runNode("prior_guided_planner_node",
+                                            "_prior_bundle_path:=/nonexistent/x.prior", 20);
+  EXPECT_EQ(bundle.exit_code, 1) << bundle.output;
+  EXPECT_NE(bundle.output.find("prior_bundle_path"), std::string::npos) << bundle.output;
+  ros::param::del(ns + "prior_bundle_path");
+  const auto typo = efs::rostest::runNode("prior_guided_planner_node", "_rho:=3.0", 20);
+  EXPECT_EQ(typo.exit_code, 1) << typo.output;
+  EXPECT_NE(typo.output.find("rho"), std::string::npos) << typo.output;
+  EXPECT_TRUE(efs::rostest::nodeAlive(kNode));  // the launched node is not disturbed
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "prior_guided_planner_rostest");
+  return RUN_ALL_TESTS();
+}
