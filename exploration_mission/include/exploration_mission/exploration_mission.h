@@ -1,0 +1,127 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// One closed-loop exploration flown in-process, in simulated time, with the core classes the ROS
+// graph wraps, wired as the nodes are (README, "Architecture"):
+//   Simulator --scan, odometry--> LocalMap --0.2 Hz frames--> SketchRegistration --hypotheses-->
+//   ExplorationManager --target--> TrajectoryServer --reference at 100 Hz--> Se3Controller
+//   --SO3Command--> Simulator.
+// Planning is instantaneous in simulated time (compute latency is not simulated); everything is
+// deterministic for a given configuration. The mission ends when the planner reports that no
+// viewpoint remains, on a collision, or at the time limit.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "exploration_mission/mission_config.h"
+#include "exploration_mission/mission_prior.h"
+
+namespace efs::mission {
+
+enum class MissionEnd {
+  kRunning,
+  kExplorationComplete,  ///< the planner found no viewpoint left
+  kCollision,            ///< the vehicle touched the world (a failed run)
+  kTimeLimit,            ///< time_limit_s reached first
+  kStuck,                ///< viewpoints remain but none is reachable
+};
+const char* toString(MissionEnd end);
+
+/// One registration output, as the planner received it.
+struct HypothesisRecord {
+  double time_s = 0.0;
+  registration::RegistrationStatus status = registration::RegistrationStatus::kTooFewFrames;
+  std::vector<registration::Hypothesis> hypotheses;  ///< best first
+};
+
+struct TrajectoryRecord {
+  double time_s = 0.0;
+  Eigen::Vector3d position_world_m = Eigen::Vector3d::Zero();  ///< ground truth
+  double speed_mps = 0.0;
+};
+
+/// What the mission did; filled as it flies.
+struct MissionLog {
+  MissionEnd end = MissionEnd::kRunning;
+  std::string end_message;
+  double end_time_s = 0.0;
+  double flight_distance_m = 0.0;
+  double coverage = 0.0;
+  std::optional<double> time_to_coverage_goal_s;
+  std::vector<sim::CoverageLogEntry> coverage_log;
+  std::vector<TrajectoryRecord> trajectory;
+  std::vector<HypothesisRecord> registrations;
+  size_t replans = 0, emergency_stops = 0, planner_cycles = 0;
+  double registration_cpu_s = 0.0, planner_cpu_s = 0.0, trajectory_cpu_s = 0.0;
+  double simulator_cpu_s = 0.0;
+};
+
+/// A progress snapshot for a progress line.
+struct MissionProgress {
+  double time_s = 0.0;
+  double coverage = 0.0;
+  double flight_distance_m = 0.0;
+  size_t hypotheses = 0;
+  double best_confidence = 0.0;
+  std::string registration_status;  ///< why there is no hypothesis yet, or "ok"
+  std::string planner_state;
+};
+
+class ExplorationMission {
+ public:
+  /// `prior`: the sketch to fly with, or std::nullopt for a prior-free run. Throws
+  /// efs::ConfigError naming the key for a bad configuration.
+  ExplorationMission(const MissionConfig& config, std::optional<MissionPrior> prior);
+  /// Same on a world the caller already loaded (moved in).
+  ExplorationMission(const MissionConfig& config, sim::VoxelWorld world,
+                     std::optional<MissionPrior> prior);
+  ~ExplorationMission();
+
+  /// Advances one control period; false once the mission has ended.
+  bool step();
+  /// Steps until the end; calls `progress` every `progress_period_s` of simulated time.
+  const MissionLog& run(const std::function<void(const MissionProgress&)>& progress = {},
+                        double progress_period_s = 10.0);
+
+  /// Called after every control step with the simulator (e.g. to record its outputs to a bag).
+  void setStepObserver(std::function<void(const sim::Simulator&)> observer) {
+    observer_ = std::move(observer);
+  }
+
+  const MissionLog& log() const { return log_; }
+  MissionProgress progress() const;
+  const sim::SimulationSession& session() const { return *session_; }
+  const std::optional<MissionPrior>& prior() const { return prior_; }
+  const MissionConfig& config() const { return config_; }
+  /// The latest registration result (empty without a prior).
+  const registration::RegistrationResult* registrationResult() const;
+
+ private:
+  void onScan();
+  void onRegistrationFrame(double t_s);
+  void finish(MissionEnd end, const std::string& message);
+
+  MissionConfig config_;
+  std::optional<MissionPrior> prior_;
+  std::unique_ptr<sim::SimulationSession> session_;
+  lio::LocalMap registration_map_;
+  lio::FrameDecimator registration_frames_;
+  std::unique_ptr<registration::SketchRegistration> registration_;
+  std::unique_ptr<planner::ExplorationManager> exploration_;
+  traj::TrajectoryServer trajectory_;
+  control::Se3Controller controller_;
+  MissionLog log_;
+  uint64_t last_scan_seq_ = 0;
+  double dt_control_s_;
+  double next_trajectory_log_s_ = 0.0;
+  std::optional<Eigen::Vector3d> current_goal_;
+  Eigen::Vector3d hold_position_m_ = Eigen::Vector3d::Zero();
+  double hold_yaw_rad_ = 0.0;
+  std::string planner_state_ = "waiting";
+  std::function<void(const sim::Simulator&)> observer_;
+};
+
+}  // namespace efs::mission

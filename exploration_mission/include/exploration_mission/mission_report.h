@@ -1,0 +1,72 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// The written outcome of a mission (issue 7's report, issue 8's per-trial row): exploration time,
+// flight distance, average speed, coverage, success, and — where the sketch's true placement is
+// known (generated worlds; evaluation only) — registration time to convergence and error.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "exploration_mission/exploration_mission.h"
+
+namespace efs::mission {
+
+struct ReportConfig {
+  /// The best hypothesis counts as correct when its registration error is at most this [m].
+  double converged_error_m = 1.0;
+  double coverage_goal = 0.95;
+};
+
+struct MissionReport {
+  std::string world;
+  std::string method;  ///< proposed, prior_free, ...
+  std::string sketch;  ///< the sketch's description, empty without one
+  std::string end;     ///< toString(MissionEnd)
+  std::string end_message;
+  bool success = false;  ///< coverage goal reached, no collision
+  double exploration_time_s = 0.0;
+  double flight_distance_m = 0.0;
+  double average_speed_mps = 0.0;
+  double coverage = 0.0;
+  std::optional<double> time_to_coverage_goal_s;
+  // Registration (with a sketch); the error needs the truth.
+  size_t registration_frames = 0;
+  std::optional<double> first_hypothesis_s;
+  std::optional<double> registration_ttc_s;  ///< from then on the best hypothesis was correct
+  std::optional<double> final_registration_error_m;
+  std::optional<double> final_scale_ratio;  ///< estimated / true scale of the best hypothesis
+  size_t replans = 0, emergency_stops = 0, planner_cycles = 0;
+  double registration_cpu_s = 0.0, planner_cpu_s = 0.0, trajectory_cpu_s = 0.0;
+  double simulator_cpu_s = 0.0;
+};
+
+/// Root-mean-square distance between `points` mapped by `estimate` and by `truth` (the
+/// registration error of the paper's tables, in the target frame's units).
+double registrationErrorRmse(const Sim2& estimate, const Sim2& truth,
+                             const std::vector<Eigen::Vector2d>& points);
+
+MissionReport makeReport(const ExplorationMission& mission, const std::string& world,
+                         const std::string& method, const ReportConfig& config = {});
+
+std::string toJson(const MissionReport& report);
+std::string toMarkdown(const MissionReport& report);
+
+/// One curve of a coverage plot.
+struct CoverageSeries {
+  std::string label;
+  std::vector<sim::CoverageLogEntry> log;
+};
+/// Coverage over simulated time, one colour per distinct label (same label = same colour), the
+/// 95 % line, axes and a legend. CV_8UC3.
+cv::Mat renderCoveragePlot(const std::vector<CoverageSeries>& series, const std::string& title);
+
+/// Writes `<dir>/trajectory.png` (ground-truth top-down view and, with a sketch, the sketch with
+/// the trajectory mapped by the final best hypothesis) and `<dir>/coverage.png`. Returns the
+/// files written. Throws std::runtime_error naming a file that cannot be written.
+std::vector<std::string> writeMissionPlots(const ExplorationMission& mission,
+                                           const std::string& dir);
+
+}  // namespace efs::mission

@@ -1,0 +1,61 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "exploration_mission/mission_prior.h"
+#include "exploration_mission/mission_report.h"
+
+namespace efs::mission {
+namespace {
+
+TEST(RegistrationError, IsTheRmsDisplacementOfTheSketchPoints) {
+  const std::vector<Eigen::Vector2d> points{{0, 0}, {10, 0}, {0, 10}, {10, 10}};
+  const Sim2 truth(0.3, 2.0, Eigen::Vector2d(5, -3));
+  EXPECT_NEAR(registrationErrorRmse(truth, truth, points), 0.0, 1e-12);
+  Sim2 shifted = truth;
+  shifted.t_m += Eigen::Vector2d(0.3, 0.4);  // every point moves by 0.5
+  EXPECT_NEAR(registrationErrorRmse(shifted, truth, points), 0.5, 1e-12);
+  Sim2 scaled = truth;
+  scaled.scale = 2.2;  // points move by 0.2 x their distance from the origin: 0, 2, 2, 2.83
+  const double expected = std::sqrt((0.0 + 4.0 + 4.0 + 8.0) / 4.0);
+  EXPECT_NEAR(registrationErrorRmse(scaled, truth, points), expected, 1e-9);
+  EXPECT_EQ(registrationErrorRmse(scaled, truth, {}), 0.0);
+}
+
+/// A drawing: a closed room with an inner wall, black on white.
+cv::Mat drawRoom() {
+  cv::Mat img(200, 300, CV_8UC1, cv::Scalar(255));
+  cv::rectangle(img, cv::Rect(20, 20, 260, 160), cv::Scalar(0), 2);
+  cv::line(img, cv::Point(150, 20), cv::Point(150, 120), cv::Scalar(0), 2);
+  return img;
+}
+
+TEST(MissionPrior, TruthIsReExpressedInTheBundleFrame) {
+  // The drawing says 0.1 m/px; the user guesses 0.2 m/px. A pixel centre must land on the same
+  // world point through either frame.
+  const Sim2 truth_drawing(0.7, 1.5, Eigen::Vector2d(12, -4));
+  prior_map::PriorMapConfig config;
+  config.guidepoints.mapping_range_m = 3.0;
+  const MissionPrior prior =
+      prepareMissionPrior(drawRoom(), 0.2, config, truth_drawing, 0.1, "room");
+  ASSERT_TRUE(prior.T_world_sketch_truth.has_value());
+  EXPECT_DOUBLE_EQ(prior.scale_guess_m_per_px, 0.2);
+  EXPECT_FALSE(prior.bundle.guidepoints.empty());
+  const double u = 37, v = 91;  // a pixel
+  const Eigen::Vector2d p_drawing(0.1 * (u + 0.5), 0.1 * (200 - v - 0.5));
+  const Eigen::Vector2d p_bundle = prior.bundle.frame.pixelCenter(u, v);
+  EXPECT_LT((prior.T_world_sketch_truth->apply(p_bundle) - truth_drawing.apply(p_drawing)).norm(),
+            1e-9);
+}
+
+TEST(MissionPrior, UnusableSketchIsRefusedWithAMessage) {
+  prior_map::PriorMapConfig config;
+  const cv::Mat blank(100, 100, CV_8UC1, cv::Scalar(255));
+  EXPECT_ANY_THROW(prepareMissionPrior(blank, 0.1, config, std::nullopt, 1.0, "blank"));
+  EXPECT_ANY_THROW(prepareMissionPrior(drawRoom(), std::nan(""), config, std::nullopt, 1.0, "nan"));
+}
+
+}  // namespace
+}  // namespace efs::mission
