@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "se3_controller/reference_shapes.h"
 #include "se3_controller/se3_controller.h"
 
 namespace efs::control {
@@ -97,23 +98,8 @@ TEST(ClosedLoop, HoverHoldsWithinFiveCentimetres) {
 }
 
 TEST(ClosedLoop, FigureEightAtThreeMetresPerSecond) {
-  // Lemniscate x = A sin(wt), y = (A/2) sin(2wt): peak speed A w sqrt(2) at the crossing.
-  const double A = 5.0, vmax = 3.0, w = vmax / (A * std::sqrt(2.0));
-  auto ref = [&](double t) {
-    FlatReference r;
-    r.stamp_s = t;
-    const double s = std::sin(w * t), c = std::cos(w * t), s2 = std::sin(2 * w * t),
-                 c2 = std::cos(2 * w * t);
-    r.p_world_m = Eigen::Vector3d(A * s, 0.5 * A * s2, 1.5);
-    r.v_world_mps = Eigen::Vector3d(A * w * c, A * w * c2, 0);
-    r.a_world_mps2 = Eigen::Vector3d(-A * w * w * s, -2 * A * w * w * s2, 0);
-    r.j_world_mps3 = Eigen::Vector3d(-A * w * w * w * c, -4 * A * w * w * w * c2, 0);
-    // Heading along the velocity (the sensor looks where it flies).
-    r.yaw_rad = std::atan2(r.v_world_mps.y(), r.v_world_mps.x());
-    const Eigen::Vector2d v2 = r.v_world_mps.head<2>(), a2 = r.a_world_mps2.head<2>();
-    r.yaw_rate_radps = (v2.x() * a2.y() - v2.y() * a2.x()) / v2.squaredNorm();
-    return r;
-  };
+  const FigureEight eight;  // A = 5 m, 3 m/s at the crossing, heading along the velocity
+  auto ref = [&](double t) { return eight.at(t); };
   double peak = 0;
   for (double t = 0; t < 20; t += 0.01) peak = std::max(peak, ref(t).v_world_mps.norm());
   ASSERT_NEAR(peak, 3.0, 0.01);
@@ -124,7 +110,7 @@ TEST(ClosedLoop, FigureEightAtThreeMetresPerSecond) {
   body.R = flatAttitude(ref(0).a_world_mps2, ref(0).j_world_mps3, ref(0).yaw_rad,
                         ref(0).yaw_rate_radps, 9.81)
                .R_world_body;
-  const double period = 2 * M_PI / w;
+  const double period = eight.period();
   double max_err = 0;
   const double rms = fly(
       ctrl, body, ref, period + 1.0, 1.0, [](double, RigidBody&) {}, &max_err);
