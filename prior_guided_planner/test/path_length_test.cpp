@@ -93,6 +93,46 @@ TEST(PathLength, UnreachableIntoAClosedBox) {
   EXPECT_TRUE(cut.budget_exhausted);
 }
 
+// One Dijkstra from the robot gives the same answers as one A* per target: straight where
+// safe, around the wall otherwise (a lattice path of equal length may shorten differently),
+// nothing into the sealed box, into unknown space, or to a NaN target.
+TEST(PathLength, LengthsFromOneSourceMatchSearch) {
+  Scene s;
+  s.room = {Eigen::Vector3d(-10, -10, -0.05), Eigen::Vector3d(10, 10, 4)};
+  s.solids.push_back({Eigen::Vector3d(-0.15, -10.1, -0.1), Eigen::Vector3d(0.15, 2.0, 4.1)});
+  auto box = testing::hollowBox(Eigen::Vector3d(4, 5, -0.05), Eigen::Vector3d(7, 8, 3), 0.3);
+  s.solids.insert(s.solids.end(), box.begin(), box.end());
+  OccupancyMap occ;
+  scanFrom(occ, s,
+           {Eigen::Vector3d(-3, 0, 2), Eigen::Vector3d(3, 0, 2), Eigen::Vector3d(0, 5, 2),
+            Eigen::Vector3d(-3, -4, 2), Eigen::Vector3d(3, -4, 2), Eigen::Vector3d(5.5, 6.5, 1.5)});
+  const Eigen::Vector3d a(-3, -3, 2);
+  const std::vector<Eigen::Vector3d> targets = {{3, -3, 2},      {-5, 4, 2},  {4, 3, 2.5},
+                                                {5.5, 6.5, 1.5}, {30, 30, 2}, {std::nan(""), 0, 0},
+                                                {2.5, -6, 1.5}};
+  PathSearch ps(occ);
+  int expansions = 0;
+  const auto many = ps.lengthsFrom(a, targets, &expansions);
+  ASSERT_EQ(many.size(), targets.size());
+  EXPECT_GT(expansions, 0);
+  int found = 0, detours = 0;
+  for (size_t i = 0; i < targets.size(); ++i) {
+    const auto one = ps.search(a, targets[i]);
+    ASSERT_EQ(many[i].has_value(), one.length_m.has_value()) << "target " << i;
+    if (!one.length_m) continue;
+    ++found;
+    detours += !one.straight;
+    EXPECT_GE(*many[i], (targets[i] - a).norm() - 1e-9);
+    EXPECT_NEAR(*many[i], *one.length_m, 0.05 * *one.length_m) << "target " << i;
+  }
+  EXPECT_EQ(found, 4);
+  EXPECT_GE(detours, 2);              // the Dijkstra really had work to do
+  EXPECT_FALSE(many[3].has_value());  // inside the sealed box
+  EXPECT_FALSE(many[5].has_value());  // NaN
+  EXPECT_FALSE(ps.lengthsFrom(Eigen::Vector3d(std::nan(""), 0, 0), targets)[0].has_value());
+  EXPECT_TRUE(ps.lengthsFrom(a, {}).empty());
+}
+
 TEST(PathLength, CacheServesRepeatsAndForgetsWhatAScanChanged) {
   Scene s;
   s.room = {Eigen::Vector3d(-15, -15, -0.05), Eigen::Vector3d(15, 15, 4)};

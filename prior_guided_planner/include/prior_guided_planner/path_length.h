@@ -53,11 +53,21 @@ class PathSearch {
   PathSearch(const OccupancyMap& occ, PathSearchConfig config = {});
   const PathSearchConfig& config() const { return config_; }
   PathSearchResult search(const Eigen::Vector3d& a_world_m, const Eigen::Vector3d& b_world_m);
+  /// Lengths from `a` to every target with one Dijkstra over the lattice (same rules as
+  /// search(): straight when safe, else the lattice path shortened by string pulling; among
+  /// equally long lattice paths it may pick another than A*). std::nullopt: no path, or the
+  /// shared expansion budget ended. `expansions` (optional) receives the nodes expanded.
+  std::vector<std::optional<double>> lengthsFrom(
+      const Eigen::Vector3d& a_world_m, const std::vector<Eigen::Vector3d>& targets_world_m,
+      int* expansions = nullptr);
   /// Forgets the lattice traversability memo (call when the occupancy changed).
   void clearMemo() { traversable_.clear(); }
 
  private:
   bool traversable(const VoxelKey& k);
+  void syncMemo();
+  std::vector<std::pair<VoxelKey, double>> attach(const Eigen::Vector3d& p);
+  std::vector<Eigen::Vector3d> shorten(std::vector<Eigen::Vector3d> path) const;
   Eigen::Vector3d center(const VoxelKey& k) const {
     return voxelCenter(k, config_.search_resolution_m);
   }
