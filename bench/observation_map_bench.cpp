@@ -9,7 +9,8 @@
 //    range, the vehicle flying along the centre line looking ahead (`step_m` per frame).
 //  - Timed per frame: occupancy ray casting, observation-map update (targets: both together
 //    under 20 ms median), frontier clustering + viewpoint update; at the end L(robot, viewpoint)
-//    searches (cold) and the same queries again (cache).
+//    searches (cold), the same queries again (cache), and all of them by one Dijkstra
+//    (PathSearch::lengthsFrom, as ExplorationManager plans).
 //  - Times are this thread's CPU time (one core), so other load on the machine does not count.
 //  - Memory: map bytes per metre of cave and per m^2 of surface, every `report_every_m`.
 // Usage: observation_map_bench [cave_length_m=150] [step_m=0.5] [report_every_m=25]
@@ -18,6 +19,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <numeric>
 #include <vector>
 
 #include "efs_common/resource_usage.h"
@@ -162,10 +164,11 @@ int main(int argc, char** argv) {
   Series t_occ, t_obs, t_map, t_front, t_vp, pts_per_scan;
   std::printf(
       "observation_map_bench: cave %.0f m, %.2f m per frame, %d-point Mid-360 frames, "
-      "40 m range, 0.3 m cells\n\n",
+      "40 m range, 0.3 m cells, CPU time of one core\n\n",
       length_m, step_m, kPoints);
-  std::printf("%9s %10s %10s %10s %12s %12s %10s %10s %9s\n", "flown_m", "surface", "well_obs",
-              "frontier", "occ_blocks", "map_MiB", "B/m_cave", "B/m2_surf", "clusters");
+  std::printf(
+      "| flown m | surface cells | well observed | frontier | occ. blocks | map MiB | B / m cave "
+      "| B / m^2 surface | clusters |\n|---|---|---|---|---|---|---|---|---|\n");
   int frame = 0;
   double next_report = report_every_m;
   Eigen::Vector3d robot = Eigen::Vector3d::Zero();
@@ -199,16 +202,20 @@ int main(int argc, char** argv) {
       next_report += report_every_m;
       const double bytes = static_cast<double>(occ.memoryBytes() + obs.memoryBytes());
       const double surf_m2 = obs.numSurfaceCells() * obs.resolution() * obs.resolution();
-      std::printf("%9.0f %10zu %10zu %10zu %12zu %12.1f %10.0f %10.0f %9zu\n", s,
+      std::printf("| %.0f | %zu | %zu | %zu | %zu | %.1f | %.0f | %.0f | %zu |\n", s,
                   obs.numSurfaceCells(), obs.numWellObserved(), obs.numFrontierCells(),
                   occ.numBlocks(), bytes / (1 << 20), bytes / std::max(s, 1.0),
                   bytes / std::max(surf_m2, 1.0), clusters.clusters().size());
     }
   }
-  std::printf("\nper frame (%d frames, %.0f points median):\n", frame, pts_per_scan.pct(0.5));
-  std::printf("%-34s %9s %9s %9s %10s\n", "stage", "median_ms", "p90_ms", "max_ms", "target");
+  std::printf("\nper frame (%d frames, %.0f points median):\n\n", frame, pts_per_scan.pct(0.5));
+  auto header = [] {
+    std::printf("| stage | median ms | p90 ms | max ms | target |\n|---|---|---|---|---|\n");
+  };
+  header();
   auto row = [](const char* name, const Series& s, const char* target) {
-    std::printf("%-34s %9.2f %9.2f %9.2f %10s\n", name, s.pct(0.5), s.pct(0.9), s.max(), target);
+    std::printf("| %s | %.2f | %.2f | %.2f | %s |\n", name, s.pct(0.5), s.pct(0.9), s.max(),
+                target);
   };
   row("occupancy ray casting", t_occ, "");
   row("observation map", t_obs, "");
@@ -234,6 +241,23 @@ int main(int argc, char** argv) {
     paths.length(~0ull, robot, static_cast<uint64_t>(v.id), v.position_world_m);
     warm.v.push_back(w.elapsedMs());
   }
+  // The same robot lengths with one Dijkstra (what ExplorationManager does each plan), on a
+  // fresh search so that no traversability memo is reused.
+  std::vector<Eigen::Vector3d> targets;
+  for (const Viewpoint& v : vps) targets.push_back(v.position_world_m);
+  PathSearch fresh(occ);
+  CpuWatch one;
+  int dijkstra_expansions = 0;
+  const auto many = fresh.lengthsFrom(robot, targets, &dijkstra_expansions);
+  const double one_ms = one.elapsedMs();
+  int many_reachable = 0;
+  double max_rel_diff = 0.0;
+  for (size_t i = 0; i < vps.size(); ++i) {
+    many_reachable += many[i].has_value();
+    const auto l =
+        paths.length(~0ull, robot, static_cast<uint64_t>(vps[i].id), vps[i].position_world_m);
+    if (l && many[i]) max_rel_diff = std::max(max_rel_diff, std::abs(*many[i] - *l) / *l);
+  }
   // All pairs among (at most) the 60 viewpoints nearest to the robot: a planning cycle's matrix.
   std::vector<Viewpoint> near = vps;
   std::sort(near.begin(), near.end(), [&](const Viewpoint& x, const Viewpoint& y) {
@@ -254,13 +278,25 @@ int main(int argc, char** argv) {
     }
   }
   const double whole_ms = whole.elapsedMs();
-  std::printf("\npath lengths robot -> %zu viewpoints (%d reachable):\n", vps.size(), reachable);
+  std::printf("\npath lengths robot -> %zu viewpoints (%d reachable):\n\n", vps.size(), reachable);
+  header();
   row("L(robot, viewpoint), searched", cold, "");
   row("L(robot, viewpoint), cached", warm, "");
+  Series all_cold, all_one;
+  all_cold.v.push_back(std::accumulate(cold.v.begin(), cold.v.end(), 0.0));
+  all_one.v.push_back(one_ms);
+  row("L(robot, all viewpoints), one A* each", all_cold, "");
+  row("L(robot, all viewpoints), one Dijkstra", all_one, "");
+  std::printf(
+      "\none Dijkstra: %d expansions, %d reachable (A*: %d), largest length difference to A* "
+      "%.1f %%\n",
+      dijkstra_expansions, many_reachable, reachable, 100.0 * max_rel_diff);
   std::printf(
       "all %d pairs of the %zu nearest viewpoints (%d straight): %.0f ms in total "
       "(incl. a straight-line check per pair for this count)\n",
       pairs_total, near.size(), pairs_straight, whole_ms);
+  std::printf("\n");
+  header();
   row("L(viewpoint, viewpoint), searched", pair_cold, "");
   std::printf("\npeak RSS %.1f MiB\n", efs::peakRssBytes() / double(1 << 20));
   return 0;

@@ -165,7 +165,15 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   PlanningInput in;
   in.robot = robot;
   in.viewpoints = viewpoints_;
-  in.path_length_m = makePathLengthFn(path_cache_, robot.position_world_m, viewpoints_);
+  // L(X_r, V) for every viewpoint with one search from the robot (the robot moved since the
+  // last plan, so none of these would be cached); viewpoint pairs come from the cache.
+  std::vector<Eigen::Vector3d> targets;
+  for (const PlanViewpoint& v : viewpoints_) targets.push_back(v.position_world_m);
+  robot_len_.clear();
+  for (const std::optional<double>& l :
+       path_cache_.search().lengthsFrom(robot.position_world_m, targets))
+    robot_len_.push_back(l ? *l : kUnreachable);
+  in.path_length_m = makePathLengthFn(path_cache_, robot_len_, viewpoints_);
   in.hypotheses = hypotheses_;
   in.prior = prior_ ? &*prior_ : nullptr;
   in.observation = makeObservationQuery(observation_);

@@ -48,4 +48,29 @@ PathLengthFn makePathLengthFn(PathLengthCache& cache, const Eigen::Vector3d& rob
   };
 }
 
+PathLengthFn makePathLengthFn(PathLengthCache& cache, const std::vector<double>& robot_len,
+                              const std::vector<PlanViewpoint>& vps) {
+  if (robot_len.size() != vps.size())
+    throw std::invalid_argument("path length: " + std::to_string(robot_len.size()) +
+                                " robot lengths for " + std::to_string(vps.size()) + " viewpoints");
+  return [&cache, &robot_len, &vps](int from, int to) {
+    if (from == to) return 0.0;
+    auto check = [&](int i) {
+      if (i < 0 || i >= static_cast<int>(vps.size()) || vps[i].id < 0)
+        throw std::out_of_range("path length: no planner node " + std::to_string(i));
+    };
+    if (from == kRobotNode || to == kRobotNode) {
+      const int v = from == kRobotNode ? to : from;
+      check(v);
+      return robot_len[v];
+    }
+    check(from);
+    check(to);
+    const std::optional<double> l =
+        cache.length(static_cast<uint64_t>(vps[from].id), vps[from].position_world_m,
+                     static_cast<uint64_t>(vps[to].id), vps[to].position_world_m);
+    return l ? *l : kUnreachable;
+  };
+}
+
 }  // namespace efs::planner

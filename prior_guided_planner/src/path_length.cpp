@@ -125,6 +125,32 @@ void PathSearch::syncMemo() {
   }
 }
 
+void PathSearch::syncWithLastScan() {
+  const uint64_t rev = occ_.revision();
+  if (rev == memo_revision_) return;
+  if (rev != memo_revision_ + 1) {
+    syncMemo();
+    return;
+  }
+  memo_revision_ = rev;
+  if (traversable_.empty()) return;
+  // A lattice node depends on the cells within the vehicle radius of its centre (and the
+  // centre's cell): forget the nodes whose ball can reach a changed block.
+  const double res = occ_.resolution();
+  const double block_m = OccupancyMap::kBlockSize * res;
+  const double grow = config_.vehicle_radius_m + res;
+  const double s = config_.search_resolution_m;
+  for (const VoxelKey& b : occ_.lastChangedBlocks()) {
+    const Eigen::Vector3d lo =
+        Eigen::Vector3d(b.x, b.y, b.z) * block_m - Eigen::Vector3d::Constant(grow);
+    const Eigen::Vector3d hi = lo + Eigen::Vector3d::Constant(block_m + 2.0 * grow);
+    const VoxelKey klo = toVoxelKey(lo, s), khi = toVoxelKey(hi, s);
+    for (int32_t z = klo.z; z <= khi.z; ++z)
+      for (int32_t y = klo.y; y <= khi.y; ++y)
+        for (int32_t x = klo.x; x <= khi.x; ++x) traversable_.erase(VoxelKey{x, y, z});
+  }
+}
+
 // End points join the lattice through one of the 27 nodes around them, by a segment that
 // crosses no occupied cell (the end points themselves may sit closer to a wall than the
 // vehicle radius, e.g. the robot after a tight turn).
@@ -301,6 +327,7 @@ std::optional<double> PathLengthCache::length(uint64_t id_a, const Eigen::Vector
 }
 
 void PathLengthCache::sync() {
+  search_.syncWithLastScan();
   const uint64_t rev = occ_.revision();
   if (rev == synced_revision_) return;
   if (rev != synced_revision_ + 1) {

@@ -133,6 +133,46 @@ TEST(PathLength, LengthsFromOneSourceMatchSearch) {
   EXPECT_TRUE(ps.lengthsFrom(a, {}).empty());
 }
 
+// After a scan the memo forgets only what the scan could change: the answers equal those of a
+// search that starts from scratch, while most of the memo survives.
+TEST(PathLength, MemoSyncedScanByScanMatchesAFreshSearch) {
+  Scene s;
+  s.room = {Eigen::Vector3d(-15, -15, -0.05), Eigen::Vector3d(15, 15, 4)};
+  s.solids.push_back({Eigen::Vector3d(-0.15, -15.1, -0.1), Eigen::Vector3d(0.15, 2.0, 4.1)});
+  s.solids.push_back({Eigen::Vector3d(6, -2, -0.1), Eigen::Vector3d(7, 2, 4.1)});
+  OccupancyConfig oc;
+  oc.max_range_m = 8.0;  // far parts stay unknown until the robot gets there
+  OccupancyMap occ(oc);
+  scanFrom(occ, s, {Eigen::Vector3d(-3, 0, 2), Eigen::Vector3d(0, 5, 2)});
+  PathSearch kept(occ);
+  const Eigen::Vector3d a(-3, -3, 2);
+  std::vector<Eigen::Vector3d> targets;
+  for (double x = -12; x <= 12; x += 3)
+    for (double y = -12; y <= 12; y += 4) targets.emplace_back(x, y, 2.0);
+  kept.lengthsFrom(a, targets);
+  for (const Eigen::Vector3d& o :
+       {Eigen::Vector3d(3, 0, 2), Eigen::Vector3d(9, -5, 2), Eigen::Vector3d(-8, -9, 1.5)}) {
+    const size_t memo_before = kept.memoSize();
+    occ.insertScan(o, s.scanSphere(o, 1.0));
+    kept.syncWithLastScan();
+    EXPECT_GT(kept.memoSize(), 0u);
+    EXPECT_LT(kept.memoSize(), memo_before);
+    PathSearch fresh(occ);
+    const auto x = kept.lengthsFrom(a, targets);
+    const auto y = fresh.lengthsFrom(a, targets);
+    int reachable = 0;
+    for (size_t i = 0; i < targets.size(); ++i) {
+      ASSERT_EQ(x[i].has_value(), y[i].has_value())
+          << "target " << i << " after scan at " << o.transpose();
+      if (x[i]) {
+        EXPECT_DOUBLE_EQ(*x[i], *y[i]);
+      }
+      reachable += x[i].has_value();
+    }
+    EXPECT_GT(reachable, 0);
+  }
+}
+
 TEST(PathLength, CacheServesRepeatsAndForgetsWhatAScanChanged) {
   Scene s;
   s.room = {Eigen::Vector3d(-15, -15, -0.05), Eigen::Vector3d(15, 15, 4)};
@@ -225,6 +265,18 @@ TEST(PlannerInputs, PathLengthFnAndObservationQueryFollowTheMaps) {
   EXPECT_EQ(L(0, 1), kUnreachable);
   EXPECT_EQ(L(1, 1), 0.0);
   EXPECT_THROW(L(0, 5), std::out_of_range);
+  // The same with the robot's lengths from one search.
+  std::vector<double> robot_len;
+  for (const auto& l :
+       cache.search().lengthsFrom(robot, {vps[0].position_world_m, vps[1].position_world_m}))
+    robot_len.push_back(l ? *l : kUnreachable);
+  const PathLengthFn L2 = makePathLengthFn(cache, robot_len, vps);
+  EXPECT_DOUBLE_EQ(L2(kRobotNode, 0), 2.0);
+  EXPECT_DOUBLE_EQ(L2(0, kRobotNode), 2.0);
+  EXPECT_EQ(L2(kRobotNode, 1), kUnreachable);
+  EXPECT_EQ(L2(0, 1), kUnreachable);
+  EXPECT_THROW(L2(kRobotNode, 2), std::out_of_range);
+  EXPECT_THROW(makePathLengthFn(cache, std::vector<double>{1.0}, vps), std::invalid_argument);
 
   const ObservationQuery q = makeObservationQuery(obs);
   EXPECT_EQ(q(Eigen::Vector2d(-3, -3), 1.0), ObservationLevel::kWellObserved);  // floor below

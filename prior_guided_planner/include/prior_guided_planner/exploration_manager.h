@@ -138,6 +138,7 @@ class ExplorationManager {
   bool map_dirty_ = false;
   std::vector<PlanViewpoint> viewpoints_;
   std::vector<int> viewpoint_cluster_;  ///< cluster id per entry of viewpoints_
+  std::vector<double> robot_len_;       ///< L(X_r, V) of the last plan per viewpoint
   std::set<int> reached_viewpoint_ids_;
   std::optional<PlanningResult> last_plan_;
   std::optional<double> last_time_s_;

@@ -30,4 +30,11 @@ ObservationQuery makeObservationQuery(const ObservationMap& map);
 PathLengthFn makePathLengthFn(PathLengthCache& cache, const Eigen::Vector3d& robot_world_m,
                               const std::vector<PlanViewpoint>& viewpoints);
 
+/// L(X_r, V_i) = L(V_i, X_r) = `robot_to_viewpoint_m[i]` (kUnreachable allowed; e.g. from one
+/// PathSearch::lengthsFrom), viewpoint pairs from `cache`. Both vectors and `cache` must outlive
+/// the function.
+PathLengthFn makePathLengthFn(PathLengthCache& cache,
+                              const std::vector<double>& robot_to_viewpoint_m,
+                              const std::vector<PlanViewpoint>& viewpoints);
+
 }  // namespace efs::planner

@@ -62,6 +62,11 @@ class PathSearch {
       int* expansions = nullptr);
   /// Forgets the lattice traversability memo (call when the occupancy changed).
   void clearMemo() { traversable_.clear(); }
+  /// Call after each OccupancyMap::insertScan: forgets only the memo entries near the blocks
+  /// the scan changed (everything when scans went by unseen), so that consecutive plans reuse
+  /// the rest. PathLengthCache::sync calls it.
+  void syncWithLastScan();
+  size_t memoSize() const { return traversable_.size(); }
 
  private:
   bool traversable(const VoxelKey& k);
