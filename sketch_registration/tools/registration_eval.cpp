@@ -634,6 +634,12 @@ int main(int argc, char** argv) {
   try {
     const Options opt = parse(argc, argv);
     efs::Stopwatch wall;
+    std::optional<SketchInput> real;
+    if (!opt.sketch_path.empty()) {
+      pm::SketchLoadConfig lc;
+      lc.scale_guess_m_per_px = opt.scale_guess_m_per_px;
+      real = sketchInput(pm::loadSketch(opt.sketch_path, lc));
+    }
     const sim::VoxelWorld world = sim::loadWorld(opt.world);
     const Route route = planRoute(world, opt.max_time_s * opt.speed_mps);
     const std::vector<Vector2d> world_wall_points = sim::wallPoints(world, world.sketch_band);
@@ -648,12 +654,6 @@ int main(int argc, char** argv) {
                  opt.world.describe().c_str(), scene.c_str(), route.length_m,
                  route.waypoints_m.size());
 
-    std::optional<SketchInput> real;
-    if (!opt.sketch_path.empty()) {
-      pm::SketchLoadConfig lc;
-      lc.scale_guess_m_per_px = opt.scale_guess_m_per_px;
-      real = sketchInput(pm::loadSketch(opt.sketch_path, lc));
-    }
     SingleFrameStats sf;
     std::vector<TrialResult> trials;
     for (int i = 0; i < opt.trials; ++i) {
