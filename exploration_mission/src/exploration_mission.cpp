@@ -1,6 +1,7 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include "exploration_mission/exploration_mission.h"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -173,6 +174,13 @@ bool ExplorationMission::step() {
   o.v_world_mps = odom.v_world_m_s;
   o.q_world_body = odom.q_world_body;
   o.omega_body_radps = odom.omega_body_rad_s;
+  if (sample.valid) {
+    const double e = (sample.p_world_m - sim.groundTruth().p_world_m).norm();
+    log_.max_tracking_error_m = std::max(log_.max_tracking_error_m, e);
+    tracking_error_sq_sum_ += e * e;
+    ++tracking_samples_;
+    log_.rms_tracking_error_m = std::sqrt(tracking_error_sq_sum_ / tracking_samples_);
+  }
   const control::ControlOutput out = controller_.update(o, ref, t);
   sim::SO3Command cmd;
   cmd.force_world_N = out.so3.force_world_N;

@@ -115,6 +115,8 @@ MissionReport makeReport(const ExplorationMission& mission, const std::string& w
   r.replans = log.replans;
   r.emergency_stops = log.emergency_stops;
   r.planner_cycles = log.planner_cycles;
+  r.max_tracking_error_m = log.max_tracking_error_m;
+  r.rms_tracking_error_m = log.rms_tracking_error_m;
   r.registration_cpu_s = log.registration_cpu_s;
   r.planner_cpu_s = log.planner_cpu_s;
   r.trajectory_cpu_s = log.trajectory_cpu_s;
@@ -177,6 +179,8 @@ std::string toJson(const MissionReport& r) {
     << "  \"replans\": " << r.replans << ",\n"
     << "  \"emergency_stops\": " << r.emergency_stops << ",\n"
     << "  \"planner_cycles\": " << r.planner_cycles << ",\n"
+    << "  \"tracking_error_m\": {\"max\": " << jsonNumber(r.max_tracking_error_m)
+    << ", \"rms\": " << jsonNumber(r.rms_tracking_error_m) << "},\n"
     << "  \"cpu_s\": {\"registration\": " << jsonNumber(r.registration_cpu_s)
     << ", \"planner\": " << jsonNumber(r.planner_cpu_s)
     << ", \"trajectory\": " << jsonNumber(r.trajectory_cpu_s)
@@ -209,6 +213,8 @@ std::string toMarkdown(const MissionReport& r) {
   }
   o << "| replans / emergency stops / planner cycles | " << r.replans << " / " << r.emergency_stops
     << " / " << r.planner_cycles << " |\n"
+    << "| tracking error max / RMS | " << fmt(r.max_tracking_error_m, 2) << " / "
+    << fmt(r.rms_tracking_error_m, 2) << " m |\n"
     << "| CPU: registration / planner / trajectory / simulator | " << fmt(r.registration_cpu_s, 1)
     << " / " << fmt(r.planner_cpu_s, 1) << " / " << fmt(r.trajectory_cpu_s, 1) << " / "
     << fmt(r.simulator_cpu_s, 1) << " s |\n";

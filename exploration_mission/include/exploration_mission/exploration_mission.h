@@ -55,6 +55,8 @@ struct MissionLog {
   std::vector<TrajectoryRecord> trajectory;
   std::vector<HypothesisRecord> registrations;
   size_t replans = 0, emergency_stops = 0, planner_cycles = 0;
+  /// Distance between the reference and the true position, over the flight.
+  double max_tracking_error_m = 0.0, rms_tracking_error_m = 0.0;
   double registration_cpu_s = 0.0, planner_cpu_s = 0.0, trajectory_cpu_s = 0.0;
   double simulator_cpu_s = 0.0;
 };
@@ -117,6 +119,8 @@ class ExplorationMission {
   uint64_t last_scan_seq_ = 0;
   double dt_control_s_;
   double next_trajectory_log_s_ = 0.0;
+  double tracking_error_sq_sum_ = 0.0;
+  size_t tracking_samples_ = 0;
   std::optional<Eigen::Vector3d> current_goal_;
   Eigen::Vector3d hold_position_m_ = Eigen::Vector3d::Zero();
   double hold_yaw_rad_ = 0.0;
