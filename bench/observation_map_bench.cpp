@@ -13,16 +13,21 @@
 //    (PathSearch::lengthsFrom, as ExplorationManager plans).
 //  - Times are this thread's CPU time (one core), so other load on the machine does not count.
 //  - Memory: map bytes per metre of cave and per m^2 of surface, every `report_every_m`.
+//  - `manager`: ExplorationManager::update() time when it replans, per mode, along the cave.
 // Usage: observation_map_bench [cave_length_m=150] [step_m=0.5] [report_every_m=25]
+//        observation_map_bench manager [cave_length_m=150]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <numeric>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "efs_common/resource_usage.h"
+#include "prior_guided_planner/exploration_manager.h"
 #include "prior_guided_planner/frontier_clusters.h"
 #include "prior_guided_planner/observation_map.h"
 #include "prior_guided_planner/occupancy_map.h"
@@ -144,13 +149,88 @@ struct Series {
   double max() const { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
 };
 
+// The exploration manager flown along the cave (it does not steer: the robot follows the
+// centre line, as in the map table), planning every `plan_every` frames. Times one update()
+// that replans (map update excluded: scans go in beforehand) per mode.
+void managerTable(double length_m, double step_m, int plan_every) {
+  Cave cave(length_m + 45.0);
+  const double kPitch = 15.0 * kPi / 180.0;
+  // Guidepoints every 15 m along the centre line (sketch = world), PRM = distance along it.
+  GuidepointPrior prior;
+  for (double s = 0.0; s <= length_m + 30.0; s += 15.0) {
+    Eigen::Vector3d tangent;
+    int seg = 0;
+    prior.ids.push_back(static_cast<uint32_t>(prior.ids.size()));
+    prior.positions_sketch_m.push_back(cave.along(s, &tangent, &seg).head<2>());
+  }
+  const int n = prior.size();
+  prior.prm_distance_m = CostMatrix(n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) prior.prm_distance_m(i, j) = 15.0 * std::abs(i - j);
+  struct Mode {
+    const char* name;
+    BaselineMode mode;
+    int hypotheses;
+  };
+  std::printf(
+      "\nExplorationManager::update() when it replans (map update excluded), cave %.0f m, a plan "
+      "every %d frames, %d guidepoints\n\n",
+      length_m, plan_every, n);
+  std::printf(
+      "| mode | hypotheses | plans | median ms | p90 ms | max ms | viewpoints (median) | "
+      "target |\n|---|---|---|---|---|---|---|---|\n");
+  for (const Mode& m : {Mode{"prior_free", BaselineMode::kPriorFree, 0},
+                        Mode{"nearest_frontier", BaselineMode::kNearestFrontier, 0},
+                        Mode{"proposed", BaselineMode::kProposed, 1},
+                        Mode{"proposed", BaselineMode::kProposed, 3}}) {
+    ExplorationManagerConfig c;
+    c.planner.mode = m.mode;
+    c.replan_period_s = 0.0;
+    ExplorationManager mgr(c,
+                           m.hypotheses > 0 ? std::optional<GuidepointPrior>(prior) : std::nullopt);
+    std::vector<Hypothesis> hs;
+    for (int k = 0; k < m.hypotheses; ++k)
+      hs.push_back(
+          {k, efs::Sim2(0.02 * k, 1.0 + 0.05 * k, Eigen::Vector2d(1.5 * k, -k)), 1.0 / (1 + k)});
+    if (!hs.empty()) mgr.setHypotheses(hs);
+    Series t_plan, n_vps;
+    int frame = 0;
+    for (double s = 0.0; s <= length_m + 1e-9; s += step_m, ++frame) {
+      Eigen::Vector3d tangent;
+      int seg = 0;
+      const Eigen::Vector3d o = cave.along(s, &tangent, &seg);
+      const double yaw = std::atan2(tangent.y(), tangent.x());
+      std::vector<Eigen::Vector3f> pts;
+      for (const Eigen::Vector3d& p : mid360Scan(cave, o, yaw, seg, frame, 20000, kPitch))
+        pts.push_back(p.cast<float>());
+      mgr.insertScan(o, pts);
+      if (frame % plan_every != 0) continue;
+      RobotPose robot;
+      robot.position_world_m = o;
+      robot.yaw_rad = yaw;
+      CpuWatch w;
+      const ExplorationTarget& t = mgr.update(0.1 * frame, robot);
+      const double ms = w.elapsedMs();
+      if (!t.replanned) continue;
+      t_plan.v.push_back(ms);
+      n_vps.v.push_back(static_cast<double>(mgr.viewpoints().size()));
+    }
+    std::printf("| %s | %d | %zu | %.1f | %.1f | %.1f | %.0f | < 50 ms |\n", m.name, m.hypotheses,
+                t_plan.v.size(), t_plan.pct(0.5), t_plan.pct(0.9), t_plan.max(), n_vps.pct(0.5));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
+  if (argc > 1 && std::string(argv[1]) == "manager") {
+    managerTable(argc > 2 ? std::atof(argv[2]) : 150.0, 0.5, 5);
+    return 0;
+  }
   const double length_m = argc > 1 ? std::atof(argv[1]) : 150.0;
   const double step_m = argc > 2 ? std::atof(argv[2]) : 0.5;
   const double report_every_m = argc > 3 ? std::atof(argv[3]) : 25.0;
-  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   const int kPoints = 20000;
   const double kPitch = 15.0 * kPi / 180.0;
 
