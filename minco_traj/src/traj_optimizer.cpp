@@ -70,9 +70,11 @@ MincoCorridorCost::MincoCorridorCost(const TrajOptConfig& cfg, const Eigen::Matr
       piece_polytope_(piece_polytope),
       n_(static_cast<int>(piece_polytope.size())) {
   minco_.setConditions(head, tail, n_);
-  for (const auto& poly : corridor_) {  // column-wise normals and margin-shifted offsets
+  // Normals as separate x / y / z arrays (vectorised violation test) and margin-shifted offsets.
+  for (const auto& poly : corridor_) {
     normals_t_.push_back(poly.A.transpose());
-    offsets_margin_.push_back(poly.b.array() - cfg_.corridor_margin_m);
+    planes_.push_back({poly.A.col(0).array(), poly.A.col(1).array(), poly.A.col(2).array(),
+                       poly.b.array() - cfg_.corridor_margin_m});
   }
 }
 
@@ -114,8 +116,8 @@ double MincoCorridorCost::operator()(const Eigen::VectorXd& x, Eigen::VectorXd& 
   double b0[6], b1[6], b2[6], b3[6];
   for (int i = 0; i < n_; ++i) {
     const Eigen::Matrix<double, 3, Eigen::Dynamic>& At = normals_t_[piece_polytope_[i]];
-    const Eigen::VectorXd& bm = offsets_margin_[piece_polytope_[i]];
-    const int planes = static_cast<int>(bm.size());
+    const PlaneArrays& pa = planes_[piece_polytope_[i]];
+    const int planes = static_cast<int>(pa.b.size());
     const Eigen::Matrix<double, 6, 3> ci = c.middleRows<6>(6 * i);
     const double T = T_(i);
     for (int j = 0; j <= K; ++j) {
@@ -152,11 +154,14 @@ double MincoCorridorCost::operator()(const Eigen::VectorXd& x, Eigen::VectorXd& 
       const Eigen::Vector3d jk = ci.transpose() * Eigen::Map<const Eigen::Matrix<double, 6, 1>>(b3);
       Eigen::Vector3d gp = Eigen::Vector3d::Zero(), gv = gp, ga = gp;
       double pen = 0.0, dphi;
-      for (int h = 0; h < planes; ++h) {
-        const double viol = At(0, h) * p.x() + At(1, h) * p.y() + At(2, h) * p.z() - bm(h);
-        if (viol <= 0.0) continue;
-        pen += wc * smoothL1(viol, eps, &dphi);
-        gp += wc * dphi * At.col(h);
+      viol_.resize(planes);
+      viol_ = pa.nx * p.x() + pa.ny * p.y() + pa.nz * p.z() - pa.b;
+      if (viol_.maxCoeff() > 0.0) {
+        for (int h = 0; h < planes; ++h) {
+          if (viol_(h) <= 0.0) continue;
+          pen += wc * smoothL1(viol_(h), eps, &dphi);
+          gp += wc * dphi * At.col(h);
+        }
       }
       const double vv = v.squaredNorm() - vpen2;
       if (vv > 0.0) {

@@ -91,7 +91,11 @@ class MincoCorridorCost {
   const std::vector<Polytope>& corridor_;
   std::vector<int> piece_polytope_;
   std::vector<Eigen::Matrix<double, 3, Eigen::Dynamic>> normals_t_;
-  std::vector<Eigen::VectorXd> offsets_margin_;
+  struct PlaneArrays {
+    Eigen::ArrayXd nx, ny, nz, b;
+  };
+  std::vector<PlaneArrays> planes_;
+  Eigen::ArrayXd viol_;
   int n_;
   MincoS3 minco_;
   double penalty_scale_ = 1.0;
