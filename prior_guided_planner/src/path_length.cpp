@@ -5,97 +5,12 @@
 #include <cmath>
 #include <limits>
 #include <queue>
+#include <tuple>
 
 #include "efs_common/config_check.h"
 #include "prior_guided_planner/observation_map.h"
 
 namespace efs::planner {
-namespace {
-
-struct LatticeNode {
-  double g;
-  VoxelKey parent;
-  bool closed;
-  bool has_parent;
-};
-
-// The lattice part shared by the A* (one target) and the Dijkstra (many targets): best-first
-// expansion over the 26-connected lattice with parent links.
-class Lattice {
- public:
-  explicit Lattice(double resolution_m) : s_(resolution_m) {}
-
-  /// A start node with cost g and priority f (= g + heuristic).
-  void seed(const VoxelKey& k, double g, double f) {
-    auto [it, inserted] = nodes_.try_emplace(k, LatticeNode{g, k, false, false});
-    if (!inserted) {
-      if (it->second.g <= g) return;
-      it->second = LatticeNode{g, k, false, false};
-    }
-    open_.push({f, k});
-  }
-  /// Closes the open node of least priority; returns its (g, key), nullopt when none is left.
-  std::optional<std::pair<double, VoxelKey>> pop(double* priority) {
-    while (!open_.empty()) {
-      const auto [f, k] = open_.top();
-      open_.pop();
-      LatticeNode& n = nodes_[k];
-      if (n.closed) continue;
-      n.closed = true;
-      if (priority) *priority = f;
-      return std::make_pair(n.g, k);
-    }
-    return std::nullopt;
-  }
-  /// Opens or improves the traversable neighbours of k (cost g); `h` is the heuristic.
-  template <typename Traversable, typename Heuristic>
-  void relax(const VoxelKey& k, double g, Traversable&& traversable, Heuristic&& h) {
-    for (const VoxelKey& o : neighbourOffsets26()) {
-      const VoxelKey m{k.x + o.x, k.y + o.y, k.z + o.z};
-      if (!traversable(m)) continue;
-      const double step = s_ * std::sqrt(static_cast<double>(o.x * o.x + o.y * o.y + o.z * o.z));
-      auto [it, inserted] = nodes_.try_emplace(m, LatticeNode{g + step, k, false, true});
-      if (!inserted) {
-        if (it->second.closed || it->second.g <= g + step) continue;
-        it->second.g = g + step;
-        it->second.parent = k;
-        it->second.has_parent = true;
-      }
-      open_.push({g + step + h(m), m});
-    }
-  }
-  /// a, the lattice centres from a start node to `end`, then b.
-  std::vector<Eigen::Vector3d> trace(VoxelKey end, const Eigen::Vector3d& a,
-                                     const Eigen::Vector3d& b) const {
-    std::vector<Eigen::Vector3d> path{b};
-    for (VoxelKey k = end;;) {
-      path.push_back(voxelCenter(k, s_));
-      const LatticeNode& n = nodes_.at(k);
-      if (!n.has_parent) break;
-      k = n.parent;
-    }
-    path.push_back(a);
-    std::reverse(path.begin(), path.end());
-    return path;
-  }
-
- private:
-  using Item = std::pair<double, VoxelKey>;
-  struct Later {
-    bool operator()(const Item& x, const Item& y) const { return x.first > y.first; }
-  };
-  double s_;
-  std::unordered_map<VoxelKey, LatticeNode, VoxelKeyHash> nodes_;
-  std::priority_queue<Item, std::vector<Item>, Later> open_;
-};
-
-double polylineLength(const std::vector<Eigen::Vector3d>& path) {
-  double len = 0.0;
-  for (size_t i = 1; i < path.size(); ++i) len += (path[i] - path[i - 1]).norm();
-  return len;
-}
-
-}  // namespace
 
 void PathSearchConfig::validate() const {
   requireInRange("path.search_resolution_m", search_resolution_m, 0.05, 10.0);
@@ -104,58 +19,197 @@ void PathSearchConfig::validate() const {
   requireInRange("path.endpoint_tolerance_m", endpoint_tolerance_m, 0.0, 10.0);
 }
 
+namespace {
+
+constexpr int kChunkBits = 3;
+constexpr int kChunkSize = 1 << kChunkBits;
+constexpr int kChunkNodes = kChunkSize * kChunkSize * kChunkSize;
+constexpr uint8_t kNoParent = 255;
+
+enum : uint8_t { kUntested = 0, kTraversable = 1, kBlocked = 2 };
+
+struct Offsets {
+  VoxelKey d[26];
+  double length[26];  ///< in lattice steps
+};
+
+const Offsets& offsets26() {
+  static const Offsets o = [] {
+    Offsets r;
+    const auto& v = neighbourOffsets26();
+    for (int i = 0; i < 26; ++i) {
+      r.d[i] = v[i];
+      r.length[i] =
+          std::sqrt(static_cast<double>(v[i].x * v[i].x + v[i].y * v[i].y + v[i].z * v[i].z));
+    }
+    return r;
+  }();
+  return o;
+}
+
+struct QItem {
+  double f;
+  VoxelKey k;
+  bool operator>(const QItem& o) const { return f > o.f; }
+};
+using OpenQueue = std::priority_queue<QItem, std::vector<QItem>, std::greater<QItem>>;
+
+bool keyLess(const VoxelKey& x, const VoxelKey& y) {
+  return std::tie(x.x, x.y, x.z) < std::tie(y.x, y.y, y.z);
+}
+
+double pathLength(const std::vector<Eigen::Vector3d>& path) {
+  double len = 0.0;
+  for (size_t i = 1; i < path.size(); ++i) len += (path[i] - path[i - 1]).norm();
+  return len;
+}
+
+}  // namespace
+
+// Flat per-node arrays of one 8^3 block of lattice nodes. Labels and search scratch carry an
+// epoch per chunk and are reset lazily when a chunk is first touched in a newer epoch.
+struct PathSearch::Chunk {
+  uint8_t trav[kChunkNodes] = {};
+  uint32_t label[kChunkNodes];
+  double g[kChunkNodes];
+  uint8_t parent[kChunkNodes];
+  uint8_t closed[kChunkNodes];
+  uint32_t label_epoch = 0;
+  uint32_t search_epoch = 0;
+};
+
 PathSearch::PathSearch(const OccupancyMap& occ, PathSearchConfig config)
     : occ_(occ), config_(config) {
   config_.validate();
   memo_revision_ = occ_.revision();
 }
 
-bool PathSearch::traversable(const VoxelKey& k) {
-  auto it = traversable_.find(k);
-  if (it != traversable_.end()) return it->second;
-  const bool ok = occ_.isSafe(center(k), config_.vehicle_radius_m, config_.unknown_is_traversable);
-  traversable_.emplace(k, ok);
-  return ok;
+PathSearch::~PathSearch() = default;
+
+PathSearch::Slot PathSearch::slot(const VoxelKey& k) {
+  const VoxelKey ck{k.x >> kChunkBits, k.y >> kChunkBits, k.z >> kChunkBits};
+  if (!last_chunk_ || ck != last_chunk_key_) {
+    auto& c = chunks_[ck];
+    if (!c) c = std::make_unique<Chunk>();
+    last_chunk_ = c.get();
+    last_chunk_key_ = ck;
+  }
+  const int m = kChunkSize - 1;
+  return {last_chunk_, (k.x & m) | ((k.y & m) << kChunkBits) | ((k.z & m) << (2 * kChunkBits))};
 }
 
-void PathSearch::syncMemo() {
-  if (occ_.revision() != memo_revision_) {
-    traversable_.clear();
-    memo_revision_ = occ_.revision();
-  }
+bool PathSearch::traversable(const VoxelKey& k) {
+  const Slot s = slot(k);
+  uint8_t& t = s.chunk->trav[s.index];
+  if (t == kUntested)
+    t = occ_.isSafe(center(k), config_.vehicle_radius_m, config_.unknown_is_traversable)
+            ? kTraversable
+            : kBlocked;
+  return t == kTraversable;
+}
+
+void PathSearch::clearMemo() {
+  chunks_.clear();
+  last_chunk_ = nullptr;
+  ++label_epoch_;
+}
+
+size_t PathSearch::memoSize() const {
+  size_t n = 0;
+  for (const auto& [key, c] : chunks_)
+    for (uint8_t t : c->trav) n += t != kUntested;
+  return n;
+}
+
+void PathSearch::ensureCurrent() {
+  if (occ_.revision() == memo_revision_) return;
+  clearMemo();
+  memo_revision_ = occ_.revision();
 }
 
 void PathSearch::syncWithLastScan() {
   const uint64_t rev = occ_.revision();
   if (rev == memo_revision_) return;
   if (rev != memo_revision_ + 1) {
-    syncMemo();
+    ensureCurrent();
     return;
   }
+  ++label_epoch_;  // any change may join or split components
   memo_revision_ = rev;
-  if (traversable_.empty()) return;
-  // A lattice node depends on the cells within the vehicle radius of its centre (and the
-  // centre's cell): forget the nodes whose ball can reach a changed block.
-  const double res = occ_.resolution();
-  const double block_m = OccupancyMap::kBlockSize * res;
-  const double grow = config_.vehicle_radius_m + res;
+  // A node's test reads the cells of its ball: retest the nodes whose centre lies within the
+  // radius (plus a cell for rounding) of a changed block's box.
   const double s = config_.search_resolution_m;
+  const double block_m = occ_.resolution() * OccupancyMap::kBlockSize;
+  const double grow = config_.vehicle_radius_m + occ_.resolution();
   for (const VoxelKey& b : occ_.lastChangedBlocks()) {
     const Eigen::Vector3d lo =
         Eigen::Vector3d(b.x, b.y, b.z) * block_m - Eigen::Vector3d::Constant(grow);
-    const Eigen::Vector3d hi = lo + Eigen::Vector3d::Constant(block_m + 2.0 * grow);
+    const Eigen::Vector3d hi =
+        Eigen::Vector3d(b.x + 1, b.y + 1, b.z + 1) * block_m + Eigen::Vector3d::Constant(grow);
     const VoxelKey klo = toVoxelKey(lo, s), khi = toVoxelKey(hi, s);
     for (int32_t z = klo.z; z <= khi.z; ++z)
       for (int32_t y = klo.y; y <= khi.y; ++y)
-        for (int32_t x = klo.x; x <= khi.x; ++x) traversable_.erase(VoxelKey{x, y, z});
+        for (int32_t x = klo.x; x <= khi.x; ++x) {
+          const VoxelKey k{x, y, z};
+          const VoxelKey ck{x >> kChunkBits, y >> kChunkBits, z >> kChunkBits};
+          auto it = chunks_.find(ck);
+          if (it == chunks_.end()) continue;
+          const int m = kChunkSize - 1;
+          it->second
+              ->trav[(k.x & m) | ((k.y & m) << kChunkBits) | ((k.z & m) << (2 * kChunkBits))] =
+              kUntested;
+        }
   }
+}
+
+// Connected component of a traversable node (0 when blocked): flood fills the whole component
+// the first time one of its nodes is asked in this label epoch.
+uint32_t PathSearch::component(const VoxelKey& k) {
+  if (!traversable(k)) return 0;
+  auto labelRef = [&](const VoxelKey& n) -> uint32_t& {
+    const Slot s = slot(n);
+    if (s.chunk->label_epoch != label_epoch_) {
+      std::fill(std::begin(s.chunk->label), std::end(s.chunk->label), 0u);
+      s.chunk->label_epoch = label_epoch_;
+    }
+    return s.chunk->label[s.index];
+  };
+  if (const uint32_t l = labelRef(k)) return l;
+  const uint32_t label = next_label_++;
+  const Offsets& o = offsets26();
+  std::vector<VoxelKey> stack{k};
+  labelRef(k) = label;
+  while (!stack.empty()) {
+    const VoxelKey c = stack.back();
+    stack.pop_back();
+    for (const VoxelKey& d : o.d) {
+      const VoxelKey n{c.x + d.x, c.y + d.y, c.z + d.z};
+      if (!traversable(n)) continue;
+      uint32_t& l = labelRef(n);
+      if (l == label) continue;
+      l = label;
+      stack.push_back(n);
+    }
+  }
+  return label;
+}
+
+PathSearch::Slot PathSearch::scratch(const VoxelKey& k) {
+  const Slot sl = slot(k);
+  Chunk& c = *sl.chunk;
+  if (c.search_epoch != search_epoch_) {
+    std::fill(std::begin(c.g), std::end(c.g), std::numeric_limits<double>::infinity());
+    std::fill(std::begin(c.closed), std::end(c.closed), uint8_t{0});
+    c.search_epoch = search_epoch_;
+  }
+  return sl;
 }
 
 // End points join the lattice through one of the 27 nodes around them, by a segment that
 // crosses no occupied cell (the end points themselves may sit closer to a wall than the
 // vehicle radius, e.g. the robot after a tight turn).
-std::vector<std::pair<VoxelKey, double>> PathSearch::attach(const Eigen::Vector3d& p) {
-  std::vector<std::pair<VoxelKey, double>> out;
+PathSearch::Joins PathSearch::attach(const Eigen::Vector3d& p) {
+  Joins out;
   const VoxelKey k0 = toVoxelKey(p, config_.search_resolution_m);
   for (int dz = -1; dz <= 1; ++dz)
     for (int dy = -1; dy <= 1; ++dy)
@@ -191,125 +245,247 @@ std::vector<Eigen::Vector3d> PathSearch::shorten(std::vector<Eigen::Vector3d> pa
   return out;
 }
 
+// a, the lattice nodes from a start node to `last` (parents of the current search), b;
+// shortened.
+std::vector<Eigen::Vector3d> PathSearch::tracePath(const Eigen::Vector3d& a, const VoxelKey& last,
+                                                   const Eigen::Vector3d& b) {
+  const Offsets& o = offsets26();
+  std::vector<Eigen::Vector3d> path{b};
+  for (VoxelKey k = last;;) {
+    path.push_back(center(k));
+    const Slot s = slot(k);
+    const uint8_t p = s.chunk->parent[s.index];
+    if (p == kNoParent) break;
+    k = {k.x - o.d[p].x, k.y - o.d[p].y, k.z - o.d[p].z};
+  }
+  path.push_back(a);
+  std::reverse(path.begin(), path.end());
+  return shorten(std::move(path));
+}
+
+namespace {
+
+// Keeps the joins whose component is in `labels`.
+template <typename Joins, typename Label>
+Joins keepLabelled(const Joins& joins, const std::vector<uint32_t>& labels, Label&& label) {
+  Joins out;
+  for (const auto& j : joins)
+    if (std::find(labels.begin(), labels.end(), label(j.first)) != labels.end()) out.push_back(j);
+  return out;
+}
+
+}  // namespace
+
+// Best-first expansion over the lattice from the join nodes `starts` (cost = their join
+// length) with priority g + h. `stop(f)` ends the search before the node of priority f is
+// closed; `visit(k, g)` sees each closed node. Parents are left in the search scratch.
+template <typename Heuristic, typename Stop, typename Visit>
+PathSearch::SearchStats PathSearch::bestFirst(const Joins& starts, Heuristic&& h, Stop&& stop,
+                                              Visit&& visit) {
+  ++search_epoch_;
+  SearchStats st;
+  OpenQueue open;
+  for (const auto& [k, c] : starts) {
+    const Slot sl = scratch(k);
+    if (sl.chunk->g[sl.index] <= c) continue;
+    sl.chunk->g[sl.index] = c;
+    sl.chunk->parent[sl.index] = kNoParent;
+    open.push({c + h(k), k});
+  }
+  const Offsets& o = offsets26();
+  const double s = config_.search_resolution_m;
+  while (!open.empty()) {
+    const QItem top = open.top();
+    open.pop();
+    if (stop(top.f)) break;
+    const VoxelKey k = top.k;
+    const Slot sl = scratch(k);
+    if (sl.chunk->closed[sl.index]) continue;
+    sl.chunk->closed[sl.index] = 1;
+    if (++st.expansions > config_.max_expansions) {
+      st.exhausted = true;
+      break;
+    }
+    const double g = sl.chunk->g[sl.index];
+    visit(k, g);
+    for (int d = 0; d < 26; ++d) {
+      const VoxelKey m{k.x + o.d[d].x, k.y + o.d[d].y, k.z + o.d[d].z};
+      if (!traversable(m)) continue;
+      const double gm = g + s * o.length[d];
+      const Slot sm = scratch(m);
+      if (sm.chunk->closed[sm.index] || sm.chunk->g[sm.index] <= gm) continue;
+      sm.chunk->g[sm.index] = gm;
+      sm.chunk->parent[sm.index] = static_cast<uint8_t>(d);
+      open.push({gm + h(m), m});
+    }
+  }
+  return st;
+}
+
+bool PathSearch::connected(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  if (!a.allFinite() || !b.allFinite()) return false;
+  ensureCurrent();
+  if (occ_.segmentSafe(a, b, config_.vehicle_radius_m, config_.unknown_is_traversable)) return true;
+  std::vector<uint32_t> la;
+  for (const auto& [k, c] : attach(a)) la.push_back(component(k));
+  for (const auto& [k, c] : attach(b))
+    if (std::find(la.begin(), la.end(), component(k)) != la.end()) return true;
+  return false;
+}
+
 PathSearchResult PathSearch::search(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   PathSearchResult res;
   if (!a.allFinite() || !b.allFinite()) return res;
-  syncMemo();
-  if (occ_.segmentSafe(a, b, config_.vehicle_radius_m, config_.unknown_is_traversable)) {
+  ensureCurrent();
+  const double r = config_.vehicle_radius_m;
+  const bool unk = config_.unknown_is_traversable;
+  if (occ_.segmentSafe(a, b, r, unk)) {
     res.length_m = (b - a).norm();
     res.waypoints_world_m = {a, b};
     res.straight = true;
     return res;
   }
-  const auto starts = attach(a);
-  const auto goals = attach(b);
-  if (starts.empty() || goals.empty()) return res;
-  std::unordered_map<VoxelKey, double, VoxelKeyHash> goal_cost;
-  for (const auto& [k, c] : goals) goal_cost[k] = c;
+  auto label = [&](const VoxelKey& k) { return component(k); };
+  const Joins all_goals = attach(b);
+  std::vector<uint32_t> goal_labels;
+  for (const auto& j : all_goals) goal_labels.push_back(component(j.first));
+  const Joins starts = keepLabelled(attach(a), goal_labels, label);
+  if (starts.empty()) return res;
+  std::vector<uint32_t> start_labels;
+  for (const auto& j : starts) start_labels.push_back(component(j.first));
+  const Joins goals = keepLabelled(all_goals, start_labels, label);
 
-  Lattice lattice(config_.search_resolution_m);
   // f = g + h, where a goal node's h is its exact remaining cost; others use the straight line.
-  auto h = [&](const VoxelKey& k) {
-    auto it = goal_cost.find(k);
-    const double straight = (center(k) - b).norm();
-    return it == goal_cost.end() ? straight : std::min(straight, it->second);
+  auto goalCost = [&](const VoxelKey& k) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& [gk, c] : goals)
+      if (gk == k) best = std::min(best, c);
+    return best;
   };
-  auto trav = [this](const VoxelKey& k) { return traversable(k); };
-  for (const auto& [k, c] : starts) lattice.seed(k, c, c + h(k));
+  auto h = [&](const VoxelKey& k) { return std::min((center(k) - b).norm(), goalCost(k)); };
   std::optional<VoxelKey> reached;
   double best_total = std::numeric_limits<double>::infinity();
-  double f = 0.0;
-  while (const auto top = lattice.pop(&f)) {
-    if (f >= best_total) break;
-    const auto [g, k] = *top;
-    if (++res.expansions > config_.max_expansions) {
-      res.budget_exhausted = true;
-      break;
-    }
-    auto gc = goal_cost.find(k);
-    if (gc != goal_cost.end() && g + gc->second < best_total) {
-      best_total = g + gc->second;
-      reached = k;
-    }
-    lattice.relax(k, g, trav, h);
-  }
+  const SearchStats st = bestFirst(
+      starts, h, [&](double f) { return f >= best_total; },
+      [&](const VoxelKey& k, double g) {
+        const double gc = goalCost(k);
+        if (g + gc < best_total) {
+          best_total = g + gc;
+          reached = k;
+        }
+      });
+  res.expansions = st.expansions;
+  res.budget_exhausted = st.exhausted;
   if (!reached) return res;
-  res.waypoints_world_m = shorten(lattice.trace(*reached, a, b));
-  res.length_m = polylineLength(res.waypoints_world_m);
+  res.waypoints_world_m = tracePath(a, *reached, b);
+  res.length_m = pathLength(res.waypoints_world_m);
   return res;
+}
+
+std::vector<PathSearchResult> PathSearch::searchFrom(const Eigen::Vector3d& a,
+                                                     const std::vector<Eigen::Vector3d>& targets) {
+  std::vector<PathSearchResult> out(targets.size());
+  if (!a.allFinite()) return out;
+  ensureCurrent();
+  const double r = config_.vehicle_radius_m;
+  const bool unk = config_.unknown_is_traversable;
+  const Joins starts = attach(a);
+  std::vector<uint32_t> start_labels;
+  for (const auto& j : starts) start_labels.push_back(component(j.first));
+  // Straight segments first; the others join the lattice in the robot's components.
+  std::vector<std::pair<VoxelKey, std::pair<int, double>>> goal_joins;
+  for (size_t i = 0; i < targets.size(); ++i) {
+    const Eigen::Vector3d& b = targets[i];
+    if (!b.allFinite()) continue;
+    if (occ_.segmentSafe(a, b, r, unk)) {
+      out[i].length_m = (b - a).norm();
+      out[i].waypoints_world_m = {a, b};
+      out[i].straight = true;
+      continue;
+    }
+    for (const auto& [k, c] : attach(b))
+      if (std::find(start_labels.begin(), start_labels.end(), component(k)) != start_labels.end())
+        goal_joins.push_back({k, {static_cast<int>(i), c}});
+  }
+  if (goal_joins.empty()) return out;
+  std::sort(goal_joins.begin(), goal_joins.end(),
+            [](const auto& x, const auto& y) { return keyLess(x.first, y.first); });
+
+  // Dijkstra from the start nodes until every goal node is settled (or the budget ends); each
+  // target keeps its best join node.
+  size_t goals_left = 0;
+  for (size_t i = 0; i < goal_joins.size(); ++i)
+    goals_left += i == 0 || goal_joins[i].first != goal_joins[i - 1].first;
+  std::vector<double> best(targets.size(), std::numeric_limits<double>::infinity());
+  std::vector<std::optional<VoxelKey>> best_node(targets.size());
+  const SearchStats st = bestFirst(
+      starts, [](const VoxelKey&) { return 0.0; }, [&](double) { return goals_left == 0; },
+      [&](const VoxelKey& k, double g) {
+        auto lo = std::lower_bound(
+            goal_joins.begin(), goal_joins.end(), k,
+            [&](const auto& gj, const VoxelKey& key) { return keyLess(gj.first, key); });
+        if (lo == goal_joins.end() || lo->first != k) return;
+        --goals_left;
+        for (; lo != goal_joins.end() && lo->first == k; ++lo) {
+          const auto [t, c] = lo->second;
+          if (g + c < best[t]) {
+            best[t] = g + c;
+            best_node[t] = k;
+          }
+        }
+      });
+  const int expanded = st.expansions;
+  const bool exhausted = st.exhausted;
+  for (size_t t = 0; t < targets.size(); ++t) {
+    if (out[t].straight) continue;
+    out[t].expansions = expanded;
+    if (!best_node[t]) {
+      out[t].budget_exhausted = exhausted;
+      continue;
+    }
+    out[t].waypoints_world_m = tracePath(a, *best_node[t], targets[t]);
+    out[t].length_m = pathLength(out[t].waypoints_world_m);
+  }
+  return out;
 }
 
 std::vector<std::optional<double>> PathSearch::lengthsFrom(
     const Eigen::Vector3d& a, const std::vector<Eigen::Vector3d>& targets, int* expansions) {
-  std::vector<std::optional<double>> out(targets.size());
-  if (expansions) *expansions = 0;
-  if (!a.allFinite()) return out;
-  syncMemo();
-  // Straight segments first; the others join the lattice (targets per attach node).
-  std::unordered_map<VoxelKey, std::vector<std::pair<size_t, double>>, VoxelKeyHash> goal_nodes;
-  for (size_t i = 0; i < targets.size(); ++i) {
-    const Eigen::Vector3d& b = targets[i];
-    if (!b.allFinite()) continue;
-    if (occ_.segmentSafe(a, b, config_.vehicle_radius_m, config_.unknown_is_traversable)) {
-      out[i] = (b - a).norm();
-      continue;
-    }
-    for (const auto& [k, c] : attach(b)) goal_nodes[k].emplace_back(i, c);
-  }
-  if (goal_nodes.empty()) return out;
-  const auto starts = attach(a);
-  if (starts.empty()) return out;
-
-  // Dijkstra from the source's attach nodes until every goal node is settled (or the budget
-  // ends); each target keeps its best attach node.
-  Lattice lattice(config_.search_resolution_m);
-  for (const auto& [k, c] : starts) lattice.seed(k, c, c);
-  std::vector<double> best(targets.size(), std::numeric_limits<double>::infinity());
-  std::vector<std::optional<VoxelKey>> best_node(targets.size());
-  size_t goals_left = goal_nodes.size();
+  const std::vector<PathSearchResult> found = searchFrom(a, targets);
+  std::vector<std::optional<double>> out;
+  out.reserve(found.size());
   int expanded = 0;
-  auto trav = [this](const VoxelKey& k) { return traversable(k); };
-  auto zero = [](const VoxelKey&) { return 0.0; };
-  while (goals_left > 0) {
-    const auto top = lattice.pop(nullptr);
-    if (!top || ++expanded > config_.max_expansions) break;
-    const auto [g, k] = *top;
-    if (auto gn = goal_nodes.find(k); gn != goal_nodes.end()) {
-      --goals_left;
-      for (const auto& [t, c] : gn->second)
-        if (g + c < best[t]) {
-          best[t] = g + c;
-          best_node[t] = k;
-        }
-    }
-    lattice.relax(k, g, trav, zero);
+  for (const PathSearchResult& r : found) {
+    out.push_back(r.length_m);
+    expanded = std::max(expanded, r.expansions);
   }
   if (expansions) *expansions = expanded;
-  for (size_t t = 0; t < targets.size(); ++t)
-    if (!out[t] && best_node[t])
-      out[t] = polylineLength(shorten(lattice.trace(*best_node[t], a, targets[t])));
   return out;
 }
 
 PathLengthCache::PathLengthCache(const OccupancyMap& occ, PathSearchConfig config)
     : occ_(occ), search_(occ, config), synced_revision_(occ.revision()) {}
 
-std::optional<double> PathLengthCache::length(uint64_t id_a, const Eigen::Vector3d& a,
-                                              uint64_t id_b, const Eigen::Vector3d& b) {
-  const bool swap = id_b < id_a;
-  const std::pair<uint64_t, uint64_t> key =
-      swap ? std::make_pair(id_b, id_a) : std::make_pair(id_a, id_b);
-  const Eigen::Vector3d& p = swap ? b : a;
-  const Eigen::Vector3d& q = swap ? a : b;
+namespace {
+
+std::pair<uint64_t, uint64_t> orderedKey(uint64_t id_a, uint64_t id_b) {
+  return id_b < id_a ? std::make_pair(id_b, id_a) : std::make_pair(id_a, id_b);
+}
+
+}  // namespace
+
+const PathLengthCache::Entry* PathLengthCache::valid(const std::pair<uint64_t, uint64_t>& key,
+                                                     const Eigen::Vector3d& p,
+                                                     const Eigen::Vector3d& q) const {
   const double tol = search_.config().endpoint_tolerance_m;
   auto it = entries_.find(key);
-  if (it != entries_.end() && (it->second.a - p).norm() <= tol &&
-      (it->second.b - q).norm() <= tol) {
-    ++stats_.hits;
-    return it->second.length_m;
-  }
-  ++stats_.misses;
-  const PathSearchResult r = search_.search(p, q);
+  if (it == entries_.end() || (it->second.a - p).norm() > tol || (it->second.b - q).norm() > tol)
+    return nullptr;
+  return &it->second;
+}
+
+void PathLengthCache::store(const std::pair<uint64_t, uint64_t>& key, const Eigen::Vector3d& p,
+                            const Eigen::Vector3d& q, const PathSearchResult& r) {
   Entry e;
   e.a = p;
   e.b = q;
@@ -323,7 +499,22 @@ std::optional<double> PathLengthCache::length(uint64_t id_a, const Eigen::Vector
   e.block_lo = {lo.x - 1, lo.y - 1, lo.z - 1};
   e.block_hi = {hi.x + 1, hi.y + 1, hi.z + 1};
   entries_[key] = e;
-  return e.length_m;
+}
+
+std::optional<double> PathLengthCache::length(uint64_t id_a, const Eigen::Vector3d& a,
+                                              uint64_t id_b, const Eigen::Vector3d& b) {
+  const bool swap = id_b < id_a;
+  const auto key = orderedKey(id_a, id_b);
+  const Eigen::Vector3d& p = swap ? b : a;
+  const Eigen::Vector3d& q = swap ? a : b;
+  if (const Entry* e = valid(key, p, q)) {
+    ++stats_.hits;
+    return e->length_m;
+  }
+  ++stats_.misses;
+  const PathSearchResult r = search_.search(p, q);
+  store(key, p, q, r);
+  return r.length_m;
 }
 
 void PathLengthCache::sync() {

@@ -78,19 +78,26 @@ TEST(PathLength, UnreachableIntoAClosedBox) {
   const auto r = ps.search(out, in);
   EXPECT_FALSE(r.length_m.has_value());
   EXPECT_FALSE(r.budget_exhausted);
-  EXPECT_GT(r.expansions, 100);  // it really searched the outside
+  // The inside is another lattice component: known at once, without searching the outside.
+  EXPECT_EQ(r.expansions, 0);
+  EXPECT_FALSE(ps.connected(out, in));
+  EXPECT_TRUE(ps.connected(in, in2));
   const auto inside = ps.search(in, in2);
   ASSERT_TRUE(inside.length_m.has_value());
   EXPECT_NEAR(*inside.length_m, (in2 - in).norm(), 1e-9);
   // Unknown space: a point nobody has seen is unreachable too.
   EXPECT_FALSE(ps.search(out, Eigen::Vector3d(20, 20, 2)).length_m.has_value());
-  // A budget that ends early reports it.
+  // A budget that ends early reports it (around the box to its far corner).
+  const Eigen::Vector3d beyond(6, 6, 2);
+  ASSERT_TRUE(ps.search(out, beyond).length_m.has_value());
+  EXPECT_TRUE(ps.connected(out, beyond));
   PathSearchConfig tiny;
   tiny.max_expansions = 5;
   PathSearch small(occ, tiny);
-  const auto cut = small.search(out, in);
+  const auto cut = small.search(out, beyond);
   EXPECT_FALSE(cut.length_m.has_value());
   EXPECT_TRUE(cut.budget_exhausted);
+  EXPECT_TRUE(small.searchFrom(out, {beyond})[0].budget_exhausted);
 }
 
 // One Dijkstra from the robot gives the same answers as one A* per target: straight where
@@ -171,6 +178,123 @@ TEST(PathLength, MemoSyncedScanByScanMatchesAFreshSearch) {
     }
     EXPECT_GT(reachable, 0);
   }
+}
+
+// A serpentine maze: three walls across the room, each with a 2 m gap at alternating ends,
+// and a sealed box in the last corridor. `door_closed` fills the middle wall's gap.
+Scene maze(bool door_closed) {
+  Scene s;
+  s.room = {Eigen::Vector3d(-10, -10, -0.05), Eigen::Vector3d(10, 10, 3)};
+  const double ys[3] = {-5.0, 0.0, 5.0};
+  for (int i = 0; i < 3; ++i) {
+    const bool gap_east = i % 2 == 0;
+    const double x0 = gap_east ? -10.1 : -7.0, x1 = gap_east ? 7.0 : 10.1;
+    s.solids.push_back(
+        {Eigen::Vector3d(x0, ys[i] - 0.15, -0.1), Eigen::Vector3d(x1, ys[i] + 0.15, 3.1)});
+  }
+  if (door_closed)
+    s.solids.push_back({Eigen::Vector3d(-10.1, -0.15, -0.1), Eigen::Vector3d(-7.0, 0.15, 3.1)});
+  auto box = testing::hollowBox(Eigen::Vector3d(-3, 6.5, -0.05), Eigen::Vector3d(0, 9.5, 2.5), 0.3);
+  s.solids.insert(s.solids.end(), box.begin(), box.end());
+  return s;
+}
+
+std::vector<Eigen::Vector3d> mazeScanOrigins() {
+  std::vector<Eigen::Vector3d> o;
+  for (double y : {-7.5, -2.5, 2.5, 7.5})
+    for (double x : {-8.5, -4.0, 0.0, 4.0, 8.5}) o.emplace_back(x, y, 1.5);
+  o.emplace_back(-1.5, 8.0, 1.2);  // inside the sealed box
+  return o;
+}
+
+// Component labels decide reachability exactly as a full A* does (with a budget that never
+// ends): same verdict for every pair, and the Dijkstra from one point agrees with both.
+TEST(PathLength, ComponentLabelsAgreeWithAStarInAMaze) {
+  const Scene s = maze(false);
+  OccupancyMap occ;
+  for (const Eigen::Vector3d& o : mazeScanOrigins()) occ.insertScan(o, s.scanSphere(o, 1.0));
+  std::vector<Eigen::Vector3d> points = mazeScanOrigins();
+  points.emplace_back(-9.7, -9.7, 0.2);  // too close to the walls for the vehicle
+  points.emplace_back(25, 0, 1.5);       // outside the map
+  points.emplace_back(8.0, -2.5, 1.5);   // next to a scan origin
+  PathSearchConfig big;
+  big.max_expansions = 10000000;
+  PathSearch labelled(occ, big);
+  int reachable = 0, unreachable = 0, detours = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const auto from_i = labelled.lengthsFrom(points[i], points);
+    for (size_t j = 0; j < points.size(); ++j) {
+      if (i == j) continue;
+      PathSearch fresh(occ, big);
+      const PathSearchResult r = fresh.search(points[i], points[j]);
+      EXPECT_FALSE(r.budget_exhausted);
+      EXPECT_EQ(labelled.connected(points[i], points[j]), r.length_m.has_value())
+          << i << " -> " << j;
+      ASSERT_EQ(from_i[j].has_value(), r.length_m.has_value()) << i << " -> " << j;
+      if (!r.length_m) {
+        ++unreachable;
+        EXPECT_EQ(r.expansions, 0) << "a failed search explored the map: " << i << " -> " << j;
+        continue;
+      }
+      ++reachable;
+      detours += !r.straight;
+      EXPECT_NEAR(*from_i[j], *r.length_m, 0.05 * *r.length_m) << i << " -> " << j;
+      EXPECT_GE(*r.length_m, (points[j] - points[i]).norm() - 1e-9);
+    }
+  }
+  EXPECT_GT(reachable, 300);
+  EXPECT_GT(unreachable, 40);  // the box, the wall corner, outside the map
+  EXPECT_GT(detours, 200);     // most pairs wind through the maze
+  // First corridor to the last one: through all three gaps, far longer than the straight line.
+  const auto through =
+      labelled.search(Eigen::Vector3d(-8.5, -7.5, 1.5), Eigen::Vector3d(8.5, 7.5, 1.5));
+  ASSERT_TRUE(through.length_m.has_value());
+  EXPECT_GT(*through.length_m, 45.0);
+}
+
+// A door that closes and opens again, scan by scan: the kept search (memo synced after each
+// scan) gives the same answers as a fresh one, and reachability follows the door.
+TEST(PathLength, ReachabilityFollowsADoorScanByScan) {
+  const Scene open = maze(false), closed = maze(true);
+  OccupancyMap occ;
+  for (const Eigen::Vector3d& o : mazeScanOrigins()) occ.insertScan(o, open.scanSphere(o, 1.0));
+  PathLengthCache cache(occ);
+  PathSearch& kept = cache.search();
+  const Eigen::Vector3d south(-4, -2.5, 1.5), north(-4, 2.5, 1.5), near_door(-6, -1.5, 1.5);
+  const std::vector<Eigen::Vector3d> targets = {north, Eigen::Vector3d(8.5, 7.5, 1.5),
+                                                Eigen::Vector3d(4, -7.5, 1.5)};
+  auto check = [&](bool door_open, const char* when) {
+    PathSearch fresh(occ);
+    const auto x = kept.lengthsFrom(south, targets);
+    const auto y = fresh.lengthsFrom(south, targets);
+    for (size_t i = 0; i < targets.size(); ++i) {
+      ASSERT_EQ(x[i].has_value(), y[i].has_value()) << when << ", target " << i;
+      if (x[i]) {
+        EXPECT_DOUBLE_EQ(*x[i], *y[i]) << when << ", target " << i;
+      }
+    }
+    EXPECT_EQ(x[0].has_value(), door_open) << when;
+    EXPECT_EQ(x[1].has_value(), door_open) << when;
+    EXPECT_TRUE(x[2].has_value()) << when;  // south of the door: always reachable
+    EXPECT_EQ(cache.length(1, south, 2, north).has_value(), door_open) << when;
+    EXPECT_EQ(kept.connected(south, north), door_open) << when;
+  };
+  check(true, "before");
+  // The door: 2 m of wall at the middle wall's open end, seen until its cells turn occupied.
+  const double door_len = cache.length(1, south, 2, north).value();
+  for (int k = 0; k < 4; ++k) {
+    occ.insertScan(near_door, closed.scanSphere(near_door, 1.0));
+    cache.sync();
+  }
+  ASSERT_TRUE(occ.isOccupied(occ.key(Eigen::Vector3d(-8.5, -0.1, 1.5))));  // its south face
+  check(false, "closed");
+  // Opened again: the free space returns.
+  for (int k = 0; k < 8; ++k) {
+    occ.insertScan(near_door, open.scanSphere(near_door, 1.0));
+    cache.sync();
+  }
+  check(true, "reopened");
+  EXPECT_NEAR(cache.length(1, south, 2, north).value(), door_len, 1e-6);
 }
 
 TEST(PathLength, CacheServesRepeatsAndForgetsWhatAScanChanged) {

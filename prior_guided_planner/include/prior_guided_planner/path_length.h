@@ -11,16 +11,29 @@
 //    planning, not a collision-free trajectory (minco_traj builds that).
 //  - No path: std::nullopt (never a large number). The expansion budget ending also gives
 //    nullopt, with `budget_exhausted` set.
+//  - Before any lattice search both ends' join nodes are labelled with their connected
+//    component of the traversable lattice (a flood fill, once per component and occupancy
+//    revision, not counted in the budget). Ends in different components are unreachable at
+//    once (`expansions` 0): a failed search never explores the whole map.
+//  - The lattice lives in sparse chunks of 8^3 nodes with flat arrays (traversability, component
+//    label, search scratch), so memory follows the explored volume. Traversability is memoised
+//    across occupancy revisions: when exactly one scan went by, only the nodes whose ball may
+//    touch a changed occupancy block are tested again; otherwise the memo is dropped.
+//  - searchFrom(): one Dijkstra from `a` for many targets (the robot to every viewpoint) with the
+//    same rules; among equally long lattice paths it may pick another one than A*, so lengths
+//    can differ from search() by what string pulling makes of that choice.
 //  - PathLengthCache keys results by the two node ids (unordered pair) and the end positions.
 //    After each OccupancyMap::insertScan call sync(): an entry is dropped when a block changed
 //    inside its path's box (plus one block), and every "unreachable" entry is dropped when the
-//    scan added free space. If several scans went by unseen, everything is dropped.
+//    scan added free space (cheap to answer again: a component label lookup). If several scans
+//    went by unseen, everything is dropped.
 //  - Neither class is thread-safe (both memoise); the planner calls L from one thread.
 #pragma once
 
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <unordered_map>
 #include <vector>
@@ -51,36 +64,71 @@ struct PathSearchResult {
 class PathSearch {
  public:
   PathSearch(const OccupancyMap& occ, PathSearchConfig config = {});
+  ~PathSearch();
+  PathSearch(const PathSearch&) = delete;
+  PathSearch& operator=(const PathSearch&) = delete;
   const PathSearchConfig& config() const { return config_; }
   PathSearchResult search(const Eigen::Vector3d& a_world_m, const Eigen::Vector3d& b_world_m);
   /// Lengths from `a` to every target with one Dijkstra over the lattice (same rules as
   /// search(): straight when safe, else the lattice path shortened by string pulling; among
   /// equally long lattice paths it may pick another than A*). std::nullopt: no path, or the
   /// shared expansion budget ended. `expansions` (optional) receives the nodes expanded.
+  /// Targets outside the components of `a`'s join nodes cost no expansion.
   std::vector<std::optional<double>> lengthsFrom(
       const Eigen::Vector3d& a_world_m, const std::vector<Eigen::Vector3d>& targets_world_m,
       int* expansions = nullptr);
-  /// Forgets the lattice traversability memo (call when the occupancy changed).
-  void clearMemo() { traversable_.clear(); }
+  /// lengthsFrom() with the whole result (path, flags) per target.
+  std::vector<PathSearchResult> searchFrom(const Eigen::Vector3d& a_world_m,
+                                           const std::vector<Eigen::Vector3d>& targets_world_m);
+  /// Whether a path may exist: the straight segment is safe, or some join node of `a` and
+  /// some of `b` share a lattice component. False means search(a, b) finds nothing.
+  bool connected(const Eigen::Vector3d& a_world_m, const Eigen::Vector3d& b_world_m);
+  /// Forgets the lattice traversability memo and the component labels.
+  void clearMemo();
   /// Call after each OccupancyMap::insertScan: forgets only the memo entries near the blocks
   /// the scan changed (everything when scans went by unseen), so that consecutive plans reuse
-  /// the rest. PathLengthCache::sync calls it.
+  /// the rest. PathLengthCache::sync calls it. Searches that find the occupancy changed
+  /// without it drop the whole memo (correct, only slower).
   void syncWithLastScan();
-  size_t memoSize() const { return traversable_.size(); }
+  /// Lattice nodes whose traversability is memoised.
+  size_t memoSize() const;
 
  private:
+  struct Chunk;
+  struct Slot {
+    Chunk* chunk;
+    int index;
+  };
+  using Joins = std::vector<std::pair<VoxelKey, double>>;
+
+  Slot slot(const VoxelKey& k);
   bool traversable(const VoxelKey& k);
-  void syncMemo();
-  std::vector<std::pair<VoxelKey, double>> attach(const Eigen::Vector3d& p);
+  uint32_t component(const VoxelKey& k);
+  Joins attach(const Eigen::Vector3d& p);
   std::vector<Eigen::Vector3d> shorten(std::vector<Eigen::Vector3d> path) const;
+  std::vector<Eigen::Vector3d> tracePath(const Eigen::Vector3d& a, const VoxelKey& last,
+                                         const Eigen::Vector3d& b);
+  struct SearchStats {
+    int expansions = 0;
+    bool exhausted = false;
+  };
+  template <typename Heuristic, typename Stop, typename Visit>
+  SearchStats bestFirst(const Joins& starts, Heuristic&& h, Stop&& stop, Visit&& visit);
+  Slot scratch(const VoxelKey& k);  ///< slot with this search's scratch initialised
+  void ensureCurrent();
   Eigen::Vector3d center(const VoxelKey& k) const {
     return voxelCenter(k, config_.search_resolution_m);
   }
 
   const OccupancyMap& occ_;
   PathSearchConfig config_;
-  std::unordered_map<VoxelKey, bool, VoxelKeyHash> traversable_;
+  std::unordered_map<VoxelKey, std::unique_ptr<Chunk>, VoxelKeyHash> chunks_;
+  VoxelKey last_chunk_key_;
+  Chunk* last_chunk_ = nullptr;
   uint64_t memo_revision_ = 0;
+  uint32_t label_epoch_ = 1;  ///< component labels of older epochs are stale
+  uint32_t next_label_ = 1;
+  uint32_t search_epoch_ = 0;  ///< search scratch of older epochs is stale
 };
 
 struct PathCacheStats {
@@ -118,6 +166,11 @@ class PathLengthCache {
   };
 
   const OccupancyMap& occ_;
+  const Entry* valid(const std::pair<uint64_t, uint64_t>& key, const Eigen::Vector3d& p,
+                     const Eigen::Vector3d& q) const;
+  void store(const std::pair<uint64_t, uint64_t>& key, const Eigen::Vector3d& p,
+             const Eigen::Vector3d& q, const PathSearchResult& r);
+
   PathSearch search_;
   std::unordered_map<std::pair<uint64_t, uint64_t>, Entry, PairHash> entries_;
   uint64_t synced_revision_ = 0;
