@@ -295,6 +295,14 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
   }
   out = evaluate(T, observed, reverse);
   out.iterations = it;
+  // A fit that ends pinned to a scale bound wants a scale outside the allowed range: it is an
+  // artefact of the clamp (e.g. a shrunken sketch laid over a repetitive floor), not a fit.
+  if (config_.reject_scale_at_bound &&
+      (T.scale <= config_.scale_min * (1.0 + kScaleBoundTolerance) ||
+       T.scale >= config_.scale_max * (1.0 - kScaleBoundTolerance))) {
+    out.valid = false;
+    out.scale_at_bound = true;
+  }
   return out;
 }
 

@@ -50,6 +50,32 @@ double worstWallError(const Sim2& T, const IcpScene& s) {
   return worst;
 }
 
+TEST(ScaleIcp, AFitPinnedToAScaleBoundIsInvalid) {
+  const IcpScene s = makeScene();  // true scale 1.4
+  PointKdTree2d::Points dense(s.observed_world.begin(), s.observed_world.end());
+  const PointKdTree2d tree(dense);
+  const ObservedIndex index{&tree, s.robot_world};
+  ScaleIcpConfig config;
+  config.scale_min = 0.5;
+  config.scale_max = 1.0;  // the truth is outside: the refinement runs into the bound
+  const Sim2 start(s.truth.yaw_rad, 1.0, s.truth.t_m);
+  const IcpResult pinned = ScaleIcp(s.sketch, config).refine(start, s.observed_world, 0.0, &index);
+  EXPECT_TRUE(pinned.scale_at_bound) << "scale " << pinned.T_world_sketch.scale;
+  EXPECT_FALSE(pinned.valid);
+  EXPECT_NEAR(pinned.T_world_sketch.scale, 1.0, 0.011);
+  // With the truth inside the range, a fit from the truth stays there and is valid.
+  config.scale_max = 2.5;
+  const IcpResult free = ScaleIcp(s.sketch, config).refine(s.truth, s.observed_world, 0.0, &index);
+  EXPECT_FALSE(free.scale_at_bound);
+  EXPECT_TRUE(free.valid);
+  EXPECT_NEAR(free.T_world_sketch.scale, s.truth.scale, 0.03);
+  // The check can be switched off.
+  config.scale_max = 1.0;
+  config.reject_scale_at_bound = false;
+  EXPECT_FALSE(
+      ScaleIcp(s.sketch, config).refine(start, s.observed_world, 0.0, &index).scale_at_bound);
+}
+
 TEST(ScaleIcp, ConvergesFromPerturbedStart) {
   const IcpScene s = makeScene();
   const ScaleIcp icp(s.sketch, ScaleIcpConfig{});

@@ -37,6 +37,7 @@ struct ScaleIcpConfig {
   double min_inlier_ratio = 0.75;     ///< below this the hypothesis is invalid
   double sketch_margin_m = 3.0;       ///< sketch frame, around the sketch's bounding box
   int min_points = 20;                ///< observed points inside the sketch needed
+  bool reject_scale_at_bound = true;  ///< a refined scale pinned to scale_min/max is invalid
   double min_inside_ratio = 0.3;      ///< of the observed points (a partial sketch covers less)
   /// Reverse term (the paper's direction, prior -> observation): sketch points visible from the
   /// robot within this world range must have an observed point nearby. Catches transforms that
@@ -67,9 +68,13 @@ struct IcpResult {
   double forward_fitness_m = 1e9;  ///< observation -> sketch
   double reverse_fitness_m = 0.0;  ///< visible sketch -> observation (0 when not evaluated)
   int iterations = 0;
-  int num_points = 0;  ///< observed points used
-  bool valid = false;  ///< enough points and inliers
+  int num_points = 0;           ///< observed points used
+  bool valid = false;           ///< enough points and inliers, scale not pinned to a bound
+  bool scale_at_bound = false;  ///< refine() ended on scale_min or scale_max
 };
+
+/// Relative distance to scale_min / scale_max under which a refined scale counts as pinned.
+constexpr double kScaleBoundTolerance = 0.01;
 
 class ScaleIcp {
  public:
