@@ -577,7 +577,7 @@ Options parse(int argc, char** argv) {
                         "eta",
                         "min-inlier-ratio",
                         "slice-min-dz-m",
-                        "slice-max-dz-m"}) {
+                        "slice-max-dz-m", "icp-range-m"}) {
     valued.insert(k);
   }
   const efs::CliArgs args(argc, argv, valued, {"no-single-frame", "verbose"});
@@ -616,6 +616,8 @@ Options parse(int argc, char** argv) {
       args.number("slice-min-dz-m", o.registration.observation.slice_min_dz_m);
   o.registration.observation.slice_max_dz_m =
       args.number("slice-max-dz-m", o.registration.observation.slice_max_dz_m);
+  o.registration.observation.icp_range_m =
+      args.number("icp-range-m", o.registration.observation.icp_range_m);
   o.registration.validate();
   efs::requireInRange("trials", o.trials, 1, 1000);
   efs::requirePositive("scale-guess", o.scale_guess_m_per_px);
