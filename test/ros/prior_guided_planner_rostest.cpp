@@ -4,8 +4,10 @@
 // and full-sphere scans ray cast in it (world frame, like lio_bridge's scan_world). A target
 // ahead in the corridor, the tour and the status arrive; bad input (NaN points, a cloud without
 // xyz, a cloud in another frame, a hypothesis with NaN scale, odometry back in time) is logged
-// and the node keeps planning. Bad configuration stops the node cleanly at start-up.
+// and the node keeps planning. With a sketch of the room and the right hypothesis the plan is
+// prior-guided and the guidepoints carry states. Bad configuration stops the node at start-up.
 #include <explore_from_sketch/ExplorationStatus.h>
+#include <explore_from_sketch/Guidepoints.h>
 #include <explore_from_sketch/RegistrationHypotheses.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <gtest/gtest.h>
@@ -16,10 +18,17 @@
 #include <sensor_msgs/PointCloud2.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <limits>
+#include <opencv2/imgproc.hpp>
+#include <string>
+#include <thread>
 
 #include "../../prior_guided_planner/test/observation_map_test_scenes.h"
 #include "efs_common_ros/cloud_conversions.h"
+#include "prior_map_tools/prior_bundle.h"
+#include "prior_map_tools/prior_map_builder.h"
+#include "prior_map_tools/sketch_loader.h"
 #include "ros_test_utils.h"
 
 namespace {
@@ -54,14 +63,17 @@ class RosoutCollector {
 
 class PlannerNodeTest : public ::testing::Test {
  protected:
+  /// Namespace of the node under test ("" = the one the .test file launches).
+  virtual std::string ns() const { return ""; }
+
   void SetUp() override {
     room_.room = {Eigen::Vector3d(0.15, -2.85, 0.15), Eigen::Vector3d(15.75, 3.15, 3.15)};
-    odom_pub_ = nh_.advertise<nav_msgs::Odometry>("/odom", 10);
-    scan_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("/scan_world", 10);
-    hyp_pub_ = nh_.advertise<explore_from_sketch::RegistrationHypotheses>("/hypotheses", 10);
-    target_sub_ = nh_.subscribe("/exploration_target", 10, &PlannerNodeTest::onTarget, this);
-    tour_sub_ = nh_.subscribe("/exploration_tour", 10, &PlannerNodeTest::onTour, this);
-    status_sub_ = nh_.subscribe("/exploration_status", 10, &PlannerNodeTest::onStatus, this);
+    odom_pub_ = nh_.advertise<nav_msgs::Odometry>(ns() + "/odom", 10);
+    scan_pub_ = nh_.advertise<sensor_msgs::PointCloud2>(ns() + "/scan_world", 10);
+    hyp_pub_ = nh_.advertise<explore_from_sketch::RegistrationHypotheses>(ns() + "/hypotheses", 10);
+    target_sub_ = nh_.subscribe(ns() + "/exploration_target", 10, &PlannerNodeTest::onTarget, this);
+    tour_sub_ = nh_.subscribe(ns() + "/exploration_tour", 10, &PlannerNodeTest::onTour, this);
+    status_sub_ = nh_.subscribe(ns() + "/exploration_status", 10, &PlannerNodeTest::onStatus, this);
     const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(15.0);
     while ((odom_pub_.getNumSubscribers() == 0 || scan_pub_.getNumSubscribers() == 0 ||
             hyp_pub_.getNumSubscribers() == 0) &&
@@ -220,6 +232,94 @@ TEST_F(PlannerNodeTest, BadInputIsReportedAndTheNodeKeepsPlanning) {
   EXPECT_GT(target_count_, targets);
   EXPECT_EQ(last_status_.state, ExplorationStatus::STATE_EXPLORING_PRIOR_FREE);
   EXPECT_FALSE(last_status_.has_active_hypothesis);
+}
+
+// The corridor room drawn as a sketch (0.1 m per pixel, walls 2 px) and pre-processed; the
+// hypothesis that puts it onto the room.
+struct CorridorPrior {
+  std::string path;
+  explore_from_sketch::RegistrationHypothesis truth;
+  size_t guidepoints = 0;
+};
+
+const CorridorPrior& corridorPrior() {
+  static const CorridorPrior p = [] {
+    namespace pm = efs::prior_map;
+    cv::Mat1b img(100, 200, uint8_t(255));
+    const cv::Point lo(20, 20), hi(176, 80);  // 15.6 m x 6 m inside
+    cv::rectangle(img, lo, hi, cv::Scalar(0), 2);
+    pm::SketchLoadConfig lc;
+    lc.scale_guess_m_per_px = 0.1;
+    pm::PriorMapConfig config;
+    config.guidepoints.mapping_range_m = 2.0;
+    const pm::PriorBundle b =
+        pm::buildPriorBundle(pm::sketchFromImage(img, lc, "corridor"), config);
+    CorridorPrior out;
+    const char* dir = std::getenv("ROS_LOG_DIR");
+    out.path = std::string(dir ? dir : "/tmp") + "/prior_guided_planner_rostest_corridor.prior";
+    pm::savePriorBundle(b, out.path);
+    out.guidepoints = b.guidepoints.size();
+    // The sketch's lower-left inner corner goes to the room's (0.15, -2.85).
+    const Eigen::Vector2d corner = b.frame.pixelCenter(lo.x, hi.y);
+    out.truth.id = 3;
+    out.truth.scale = 1.0;
+    out.truth.tx = 0.15 - corner.x();
+    out.truth.ty = -2.85 - corner.y();
+    out.truth.confidence = 0.9;
+    return out;
+  }();
+  return p;
+}
+
+// A second node with the corridor's prior in its own namespace (started by the test, stopped
+// by `timeout` when its time is up).
+class PriorPlannerNodeTest : public PlannerNodeTest {
+ protected:
+  std::string ns() const override { return "/with_prior"; }
+  void SetUp() override {
+    const std::string bundle = corridorPrior().path;
+    node_ = std::thread([bundle] {
+      efs::rostest::runNode("prior_guided_planner_node",
+                            "__ns:=/with_prior _plan_rate_hz:=5.0 _replan_period_s:=0.2 "
+                            "_prior_bundle_path:=" +
+                                bundle,
+                            25);
+    });
+    PlannerNodeTest::SetUp();
+    guidepoints_sub_ =
+        nh_.subscribe(ns() + "/guidepoints", 10, &PriorPlannerNodeTest::onGuidepoints, this);
+  }
+  void TearDown() override { node_.join(); }
+  void onGuidepoints(const explore_from_sketch::Guidepoints& m) { last_guidepoints_ = m; }
+
+  std::thread node_;
+  ros::Subscriber guidepoints_sub_;
+  explore_from_sketch::Guidepoints last_guidepoints_;
+};
+
+TEST_F(PriorPlannerNodeTest, AHypothesisGuidesAndGuidepointsCarryStates) {
+  ASSERT_GT(odom_pub_.getNumSubscribers(), 0u) << "the node with the prior did not start";
+  hover(1.5);
+  EXPECT_EQ(last_status_.state, ExplorationStatus::STATE_EXPLORING_PRIOR_FREE);  // no hypothesis
+  explore_from_sketch::RegistrationHypotheses hyps;
+  hyps.header.stamp = ros::Time::now();
+  hyps.header.frame_id = "world";
+  hyps.hypotheses.push_back(corridorPrior().truth);
+  hyp_pub_.publish(hyps);
+  hover(1.5);
+  spinFor(0.3);
+  EXPECT_EQ(last_status_.state, ExplorationStatus::STATE_EXPLORING_PRIOR_GUIDED);
+  EXPECT_TRUE(last_status_.has_active_hypothesis);
+  EXPECT_EQ(last_status_.active_hypothesis_id, 3);
+  ASSERT_EQ(last_guidepoints_.ids.size(), corridorPrior().guidepoints);
+  EXPECT_EQ(last_guidepoints_.header.frame_id, "sketch");
+  ASSERT_EQ(last_guidepoints_.states.size(), last_guidepoints_.ids.size());
+  int seen = 0;
+  for (uint8_t st : last_guidepoints_.states)
+    seen += st == explore_from_sketch::Guidepoints::EXPLORING ||
+            st == explore_from_sketch::Guidepoints::EXPLORED;
+  EXPECT_GT(seen, 0) << "the guidepoints near the robot are being explored";
+  ASSERT_GT(target_count_, 0);
 }
 
 // Bad configuration stops the node at start-up with one message naming the parameter.
