@@ -19,6 +19,7 @@ void LocalGridConfig::validate() const {
               "window has more than 64 million cells; enlarge resolution_m or shrink the window");
   requireInRange("local_grid.inflation_radius_m", inflation_radius_m, 0.0, 3.0);
   requirePositive("local_grid.max_ray_length_m", max_ray_length_m);
+  requireInRange("local_grid.ray_downsample_m", ray_downsample_m, 0.0, 5.0);
   requireInRange("local_grid.logodds_hit", logodds_hit, 1e-3, 10.0);
   requireInRange("local_grid.logodds_miss", logodds_miss, -10.0, -1e-3);
   requireInRange("local_grid.logodds_min", logodds_min, -20.0, logodds_miss);
@@ -158,8 +159,22 @@ void LocalGrid::insertScan(const Eigen::Vector3d& origin,
     scan_stamp_[idx] = scan_id_;
     updateCell(idx, k, static_cast<float>(cfg_.logodds_hit));
   }
-  for (const auto& p : points) {
-    if (!p.allFinite()) continue;
+  // One ray per coarse end voxel (the first point in it), in a deterministic order.
+  ray_bins_.clear();
+  for (uint32_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite()) continue;
+    uint64_t bin = i;
+    if (cfg_.ray_downsample_m > 0.0) {
+      const VoxelKey c = toVoxelKey(points[i], cfg_.ray_downsample_m);
+      bin = (static_cast<uint64_t>(c.x & 0x1fffff) << 42) |
+            (static_cast<uint64_t>(c.y & 0x1fffff) << 21) | static_cast<uint64_t>(c.z & 0x1fffff);
+    }
+    ray_bins_.emplace_back(bin, i);
+  }
+  std::sort(ray_bins_.begin(), ray_bins_.end());
+  for (size_t r = 0; r < ray_bins_.size(); ++r) {
+    if (r > 0 && ray_bins_[r].first == ray_bins_[r - 1].first) continue;
+    const Eigen::Vector3d& p = points[ray_bins_[r].second];
     Eigen::Vector3d end = p;
     const double len = (p - origin).norm();
     if (len > cfg_.max_ray_length_m) end = origin + (p - origin) * (cfg_.max_ray_length_m / len);

@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "efs_common/voxel_key.h"
@@ -24,6 +25,9 @@ struct LocalGridConfig {
   double size_z_m = 6.0;
   double inflation_radius_m = 0.3;  ///< vehicle radius plus margin
   double max_ray_length_m = 30.0;   ///< longer rays clear free space up to this range only
+  /// Free space is cleared by one ray per end-point voxel of this size (0: a ray per point);
+  /// every point still marks its hit. Rays are what a scan costs (memory-bound cell visits).
+  double ray_downsample_m = 0.3;
   double logodds_hit = 0.85;
   double logodds_miss = -0.4;
   double logodds_min = -2.0;
@@ -100,6 +104,7 @@ class LocalGrid {
   std::vector<uint32_t> scan_stamp_;
   uint32_t scan_id_ = 0;
   std::vector<VoxelKey> kernel_;
+  std::vector<std::pair<uint64_t, uint32_t>> ray_bins_;  ///< scratch: (coarse key, point index)
 };
 
 /// Visits the cells a segment passes through (Amanatides-Woo), from the start cell to the end

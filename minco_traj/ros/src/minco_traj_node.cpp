@@ -1,6 +1,7 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include "minco_traj_ros/minco_traj_node.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 
 #include "efs_common_ros/cloud_conversions.h"
@@ -32,6 +33,7 @@ MincoTrajNodeConfig loadMincoTrajNodeConfig(const ros::NodeHandle& private_nh) {
   p.get("grid/size_z_m", s.grid.size_z_m);
   p.get("grid/inflation_radius_m", s.grid.inflation_radius_m);
   p.get("grid/max_ray_length_m", s.grid.max_ray_length_m);
+  p.get("grid/ray_downsample_m", s.grid.ray_downsample_m);
   p.get("astar/unknown_is_free", s.planner.astar.unknown_is_free);
   p.get("astar/goal_search_radius_m", s.planner.astar.goal_search_radius_m);
   p.get("astar/start_escape_radius_m", s.planner.astar.start_escape_radius_m);
@@ -85,7 +87,9 @@ void MincoTrajNode::onOdom(const nav_msgs::Odometry::ConstPtr& msg) {
   const auto& q = msg->pose.pose.orientation;
   const auto& v = msg->twist.twist.linear;
   s.p_world_m = {p.x, p.y, p.z};
-  s.v_world_mps = {v.x, v.y, v.z};
+  // REP 103: the twist is in the child (body) frame.
+  s.v_world_mps =
+      Eigen::Quaterniond(q.w, q.x, q.y, q.z).normalized() * Eigen::Vector3d(v.x, v.y, v.z);
   s.yaw_rad = std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
   if (!s.p_world_m.allFinite() || !s.v_world_mps.allFinite() || !std::isfinite(s.yaw_rad)) {
     ROS_WARN_THROTTLE(1.0, "minco_traj: odometry rejected: non-finite pose or twist");

@@ -116,7 +116,8 @@ void Se3ControllerNode::onOdom(const nav_msgs::Odometry::ConstPtr& msg) {
   const auto& w = msg->twist.twist.angular;
   o.p_world_m = {p.x, p.y, p.z};
   o.q_world_body = Eigen::Quaterniond(q.w, q.x, q.y, q.z);
-  o.v_world_mps = {v.x, v.y, v.z};
+  // REP 103: the twist is in the child (body) frame.
+  o.v_world_mps = o.q_world_body.normalized() * Eigen::Vector3d(v.x, v.y, v.z);
   o.omega_body_radps = {w.x, w.y, w.z};
   odom_ = o;
   const ros::Time now = ros::Time::now();

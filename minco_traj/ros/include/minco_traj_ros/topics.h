@@ -6,8 +6,8 @@
 namespace efs::traj::topics {
 
 // Inputs
-constexpr const char* kScanWorld = "scan_world";       // sensor_msgs/PointCloud2, world frame
-constexpr const char* kOdom = "odom";                  // nav_msgs/Odometry, world frame, with twist
+constexpr const char* kScanWorld = "scan_world";  // sensor_msgs/PointCloud2, world frame
+constexpr const char* kOdom = "odom";  // nav_msgs/Odometry, world frame, twist in body frame
 constexpr const char* kTarget = "exploration_target";  // geometry_msgs/PoseStamped, world frame
 // Outputs
 constexpr const char* kTrajectory = "trajectory";         // PolynomialTrajectory

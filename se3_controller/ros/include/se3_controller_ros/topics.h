@@ -8,8 +8,8 @@ namespace efs::control::topics {
 
 // Inputs
 constexpr const char* kPositionCommand = "position_cmd";  // PositionCommand
-constexpr const char* kOdom = "odom";                     // nav_msgs/Odometry, world frame
-constexpr const char* kImu = "imu";  // sensor_msgs/Imu (hover-thrust estimate, optional)
+constexpr const char* kOdom = "odom";  // nav_msgs/Odometry, world frame, twist in body frame
+constexpr const char* kImu = "imu";    // sensor_msgs/Imu (hover-thrust estimate, optional)
 // Outputs
 constexpr const char* kSo3Command = "so3_cmd";              // SO3Command
 constexpr const char* kAttitudeTarget = "attitude_target";  // AttitudeTarget
