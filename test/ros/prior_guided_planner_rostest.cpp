@@ -210,6 +210,10 @@ TEST_F(PlannerNodeTest, BadInputIsReportedAndTheNodeKeepsPlanning) {
   hyps.hypotheses.push_back(h);
   hyp_pub_.publish(hyps);
   EXPECT_TRUE(logs.waitFor(kNode, "hypothesis 7 refused", 3.0));
+  hyps.header.frame_id = "camera_init";
+  hyps.hypotheses[0].scale = 1.0;
+  hyp_pub_.publish(hyps);
+  EXPECT_TRUE(logs.waitFor(kNode, "hypotheses refused: they map into frame 'camera_init'", 3.0));
 
   // Odometry going back in time: refused.
   const ros::Time now = ros::Time::now();

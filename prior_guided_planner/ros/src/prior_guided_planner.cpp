@@ -192,6 +192,11 @@ void PriorGuidedPlannerNode::onScan(const sensor_msgs::PointCloud2::ConstPtr& ms
 
 void PriorGuidedPlannerNode::onHypotheses(
     const explore_from_sketch::RegistrationHypotheses::ConstPtr& msg) {
+  if (!msg->header.frame_id.empty() && msg->header.frame_id != config_.world_frame) {
+    reject("hypotheses refused: they map into frame '" + msg->header.frame_id +
+           "', not the world frame '" + config_.world_frame + "'");
+    return;
+  }
   std::vector<Hypothesis> hs;
   for (const auto& m : msg->hypotheses) {
     Hypothesis h;

@@ -5,8 +5,8 @@
 // prior bundle (a file; empty path = prior-free) feed the planner; a timer plans with ROS time
 // injected as seconds and publishes the target, the local tour, the status, the guidepoint
 // states and rviz markers. Bad input (malformed or non-finite clouds, odometry going back in
-// time or not finite, hypotheses with NaN or non-positive scale, clouds in another frame) is
-// refused or cleaned with a logged reason; the node keeps running.
+// time or not finite, hypotheses with NaN or non-positive scale, clouds or hypotheses in another
+// frame) is refused or cleaned with a logged reason; the node keeps running.
 #pragma once
 
 #include <explore_from_sketch/RegistrationHypotheses.h>
