@@ -53,6 +53,29 @@ TEST(LocalGrid, RepeatedMissesClearAnObstacleAndItsInflation) {
   EXPECT_EQ(g.state(far), CellState::kOccupied);
 }
 
+TEST(LocalGrid, OneRayPerCoarseEndVoxelButEveryHitCounts) {
+  // Two returns 0.1 m apart in one 0.3 m voxel, on rays 0.2 rad apart.
+  const Eigen::Vector3d origin(-1.0, 0.05, 0.05), a(1.05, 0.05, 0.05), b(1.05, 0.15, 0.05);
+  LocalGridConfig cfg = smallGrid();
+  cfg.ray_downsample_m = 0.3;
+  LocalGrid coarse(cfg, Eigen::Vector3d(0, 0, 0));
+  coarse.insertScan(origin, {a, b});
+  EXPECT_EQ(coarse.state(a), CellState::kOccupied);
+  EXPECT_EQ(coarse.state(b), CellState::kOccupied);
+  EXPECT_EQ(coarse.state(Eigen::Vector3d(0.0, 0.05, 0.05)), CellState::kFree);  // a's ray
+  cfg.ray_downsample_m = 0.0;
+  LocalGrid fine(cfg, Eigen::Vector3d(0, 0, 0));
+  fine.insertScan(origin, {a, b});
+  // Cells that only b's ray crosses: cleared with a ray per point, left unknown otherwise.
+  int only_fine = 0;
+  for (double s = 0.55; s < 0.95; s += 0.02) {
+    const Eigen::Vector3d p = origin + s * (b - origin);
+    if (fine.state(p) == CellState::kFree && coarse.state(p) == CellState::kUnknown) ++only_fine;
+    EXPECT_NE(coarse.state(p), CellState::kOccupied);
+  }
+  EXPECT_GT(only_fine, 0);
+}
+
 TEST(LocalGrid, RecenterForgetsOnlyCellsThatLeaveTheWindow) {
   LocalGrid g(smallGrid(0.1), Eigen::Vector3d(0, 0, 0));
   const Eigen::Vector3d keep(0.75, 0.05, 0.05), lose(-1.25, 0.05, 0.05);
