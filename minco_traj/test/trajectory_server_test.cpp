@@ -134,6 +134,28 @@ TEST(TrajectoryServer, FliesToTheGoalAndReportsIt) {
   EXPECT_EQ(server.update(30.0, state), ServerEvent::kNone);  // holds, no more plans
 }
 
+TEST(TrajectoryServer, GoalBeyondTheWindowIsReachedInStages) {
+  TrajectoryServer server(smallConfig());  // 14 m window: the goal is 9 m beyond its edge
+  const Eigen::Vector3d goal(16, 4, 1);
+  server.setGoal(goal, std::nullopt, 0.0);
+  VehicleState state = at({0, 0, 1});
+  bool reached = false;
+  for (double t = 0.0; t < 40.0 && !reached; t += 0.01) {
+    const ServerEvent e = server.update(t, state);
+    ASSERT_NE(e, ServerEvent::kEmergencyStop) << server.lastMessage();
+    if (e == ServerEvent::kReplanned) {
+      // Every plan ends inside the window it was planned in.
+      const Eigen::Vector3d end = server.current()->position(server.current()->duration());
+      EXPECT_TRUE(server.grid().inWindow(end));
+    }
+    reached = e == ServerEvent::kGoalReached;
+    state = fromReference(server.sample(t));
+  }
+  EXPECT_TRUE(reached);
+  EXPECT_LT((state.p_world_m - goal).norm(), 1e-3);
+  EXPECT_GE(server.replanCount(), 2);  // implied by the two checks above; stated for clarity
+}
+
 TEST(TrajectoryServer, EmergencyStopWhenTheGoalIsEnclosed) {
   TrajectoryServer server(smallConfig());
   LocalGrid& grid = server.mutableGrid();
