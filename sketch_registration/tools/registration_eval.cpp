@@ -577,7 +577,8 @@ Options parse(int argc, char** argv) {
                         "eta",
                         "min-inlier-ratio",
                         "slice-min-dz-m",
-                        "slice-max-dz-m", "icp-range-m"}) {
+                        "slice-max-dz-m",
+                        "icp-range-m"}) {
     valued.insert(k);
   }
   const efs::CliArgs args(argc, argv, valued, {"no-single-frame", "verbose"});
@@ -660,8 +661,17 @@ int main(int argc, char** argv) {
     std::vector<TrialResult> trials;
     for (int i = 0; i < opt.trials; ++i) {
       const uint64_t seed = opt.sketch_seed + static_cast<uint64_t>(i);
-      const SketchInput sketch = real ? *real : generatedSketch(world, *opt.variant, seed);
-      trials.push_back(runTrial(opt, world, route, sketch, world_walls, seed, sf));
+      try {
+        const SketchInput sketch = real ? *real : generatedSketch(world, *opt.variant, seed);
+        trials.push_back(runTrial(opt, world, route, sketch, world_walls, seed, sf));
+      } catch (const std::exception& e) {
+        // A drawn variant the pre-processing refuses (e.g. a partial sketch with no region left)
+        // is a failed trial, reported, not the end of the evaluation.
+        TrialResult failed;
+        failed.seed = seed;
+        failed.final_status = std::string("sketch refused: ") + e.what();
+        trials.push_back(failed);
+      }
       const TrialResult& t = trials.back();
       std::fprintf(stderr,
                    "  trial %d (seed %llu): %s, TTC %s s, error %s m, wall median %s m, %d frames, "
