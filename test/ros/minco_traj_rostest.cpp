@@ -137,6 +137,14 @@ TEST_F(MincoTrajNodeTest, FliesToTargetsAroundAWallAndRefusesNan) {
   EXPECT_GT(checked, 100);
   EXPECT_LT(max_mismatch, 1e-6);
   EXPECT_FALSE(trajs_.empty());
+  // Markers of the last plan: trajectory, corridor edges (line list), front-end path.
+  std::map<std::string, const visualization_msgs::Marker*> by_ns;
+  for (const auto& m : markers_.markers) by_ns[m.ns] = &m;
+  ASSERT_TRUE(by_ns.count("trajectory") && by_ns.count("corridor") && by_ns.count("front_end"));
+  EXPECT_GE(by_ns["trajectory"]->points.size(), 2u);
+  EXPECT_EQ(by_ns["corridor"]->type, visualization_msgs::Marker::LINE_LIST);
+  EXPECT_GE(by_ns["corridor"]->points.size(), 24u);  // at least one box-like polytope
+  EXPECT_EQ(by_ns["corridor"]->points.size() % 2, 0u);
 
   // NaN target: refused, the node holds and keeps commanding.
   efs::rostest::LogCollector logs(nh_);
