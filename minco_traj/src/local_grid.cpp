@@ -85,6 +85,15 @@ size_t LocalGrid::index(const VoxelKey& k) const {
   return (static_cast<size_t>(posMod(k.x, nx_)) * ny_ + posMod(k.y, ny_)) * nz_ + posMod(k.z, nz_);
 }
 
+namespace {
+// Key held by each slot along one axis for a window starting at min_key (slot = key mod n).
+std::vector<int> slotKeys(int min_key, int n) {
+  std::vector<int> keys(n);
+  for (int i = 0; i < n; ++i) keys[i] = min_key + posMod(i - min_key, n);
+  return keys;
+}
+}  // namespace
+
 void LocalGrid::recenter(const Eigen::Vector3d& c) {
   const VoxelKey ck = key(c);
   const VoxelKey new_min{ck.x - nx_ / 2, ck.y - ny_ / 2, ck.z - nz_ / 2};
@@ -92,35 +101,37 @@ void LocalGrid::recenter(const Eigen::Vector3d& c) {
   const VoxelKey old_min = min_key_;
   min_key_ = new_min;
   // Each slot holds the unique key of the old window congruent to it; forget it if that key left.
-  for (int ix = 0; ix < nx_; ++ix) {
-    const int kx = old_min.x + posMod(ix - old_min.x, nx_);
-    const bool out_x = kx < new_min.x || kx >= new_min.x + nx_;
-    for (int iy = 0; iy < ny_; ++iy) {
-      const int ky = old_min.y + posMod(iy - old_min.y, ny_);
-      const bool out_y = out_x || ky < new_min.y || ky >= new_min.y + ny_;
-      for (int iz = 0; iz < nz_; ++iz) {
-        const int kz = old_min.z + posMod(iz - old_min.z, nz_);
-        if (out_y || kz < new_min.z || kz >= new_min.z + nz_) {
-          const size_t idx = (static_cast<size_t>(ix) * ny_ + iy) * nz_ + iz;
+  auto leaving = [](int old_lo, int new_lo, int n) {
+    std::vector<uint8_t> out(n);
+    const std::vector<int> keys = slotKeys(old_lo, n);
+    for (int i = 0; i < n; ++i) out[i] = keys[i] < new_lo || keys[i] >= new_lo + n;
+    return out;
+  };
+  const auto out_x = leaving(old_min.x, new_min.x, nx_);
+  const auto out_y = leaving(old_min.y, new_min.y, ny_);
+  const auto out_z = leaving(old_min.z, new_min.z, nz_);
+  size_t idx = 0;
+  for (int ix = 0; ix < nx_; ++ix)
+    for (int iy = 0; iy < ny_; ++iy)
+      for (int iz = 0; iz < nz_; ++iz, ++idx)
+        if (out_x[ix] || out_y[iy] || out_z[iz]) {
           logodds_[idx] = 0.f;
           observed_[idx] = 0;
           occupied_[idx] = 0;
         }
-      }
-    }
-  }
   recomputeInflation();
 }
 
 void LocalGrid::recomputeInflation() {
   std::fill(inflation_.begin(), inflation_.end(), 0);
-  const VoxelKey hi = maxKey();
-  for (int x = min_key_.x; x <= hi.x; ++x)
-    for (int y = min_key_.y; y <= hi.y; ++y)
-      for (int z = min_key_.z; z <= hi.z; ++z) {
-        const VoxelKey k{x, y, z};
-        if (state(k) == CellState::kOccupied) stampInflation(k, +1);
-      }
+  // Sequential pass over the slots; keys only for the (few) occupied ones.
+  const std::vector<int> kx = slotKeys(min_key_.x, nx_), ky = slotKeys(min_key_.y, ny_),
+                         kz = slotKeys(min_key_.z, nz_);
+  size_t idx = 0;
+  for (int ix = 0; ix < nx_; ++ix)
+    for (int iy = 0; iy < ny_; ++iy)
+      for (int iz = 0; iz < nz_; ++iz, ++idx)
+        if (occupied_[idx]) stampInflation({kx[ix], ky[iy], kz[iz]}, +1);
 }
 
 void LocalGrid::stampInflation(const VoxelKey& k, int sign) {

@@ -92,6 +92,34 @@ TEST(LocalGrid, RecenterForgetsOnlyCellsThatLeaveTheWindow) {
   EXPECT_EQ(g.occupiedCount(), 1u);
 }
 
+TEST(LocalGrid, InflationAfterRecentringMatchesAFreshGrid) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  LocalGridConfig cfg = smallGrid(0.2);
+  LocalGrid g(cfg, Eigen::Vector3d(0, 0, 0));
+  for (int i = 0; i < 60; ++i) g.setOccupied({u(rng), u(rng), 0.3 * u(rng)});
+  for (const Eigen::Vector3d& c :
+       {Eigen::Vector3d(0.7, -0.4, 0.1), Eigen::Vector3d(-0.3, 0.9, 0), Eigen::Vector3d(5, 5, 0)}) {
+    g.recenter(c);
+    LocalGrid fresh(cfg, c);
+    std::vector<Eigen::Vector3d> occ;
+    g.occupiedCentersInBox(g.windowMin(), g.windowMax(), occ);
+    for (const auto& p : occ) fresh.setOccupied(p);
+    const VoxelKey lo = g.minKey(), hi = g.maxKey();
+    int inflated = 0;
+    for (int x = lo.x; x <= hi.x; ++x)
+      for (int y = lo.y; y <= hi.y; ++y)
+        for (int z = lo.z; z <= hi.z; ++z) {
+          const VoxelKey k{x, y, z};
+          ASSERT_EQ(g.isInflated(k), fresh.isInflated(k)) << x << " " << y << " " << z;
+          inflated += g.isInflated(k);
+        }
+    if (c.x() < 1.0) {
+      EXPECT_GT(inflated, 0);
+    }
+  }
+}
+
 TEST(LocalGrid, ConfigValidationNamesKey) {
   LocalGridConfig c;
   c.resolution_m = 0.0;
