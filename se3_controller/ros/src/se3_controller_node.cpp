@@ -119,6 +119,12 @@ void Se3ControllerNode::onOdom(const nav_msgs::Odometry::ConstPtr& msg) {
   // REP 103: the twist is in the child (body) frame.
   o.v_world_mps = o.q_world_body.normalized() * Eigen::Vector3d(v.x, v.y, v.z);
   o.omega_body_radps = {w.x, w.y, w.z};
+  // Without an IMU the hover-throttle estimate learns from the odometry's velocity changes.
+  const double dt = o.stamp_s - odom_.stamp_s;
+  if (!config_.use_imu && dt >= 0.005 && dt <= 0.1) {
+    o.has_acceleration = true;
+    o.a_world_mps2 = (o.v_world_mps - odom_.v_world_mps) / dt;
+  }
   odom_ = o;
   const ros::Time now = ros::Time::now();
   if (last_step_ && (now - *last_step_).toSec() < 0.9 / config_.control_rate_hz) return;
