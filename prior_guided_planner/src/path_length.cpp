@@ -86,7 +86,7 @@ PathSearch::PathSearch(const OccupancyMap& occ, PathSearchConfig config)
 
 PathSearch::~PathSearch() = default;
 
-PathSearch::Slot PathSearch::slot(const VoxelKey& k) {
+inline PathSearch::Slot PathSearch::slot(const VoxelKey& k) {
   const VoxelKey ck{k.x >> kChunkBits, k.y >> kChunkBits, k.z >> kChunkBits};
   if (!last_chunk_ || ck != last_chunk_key_) {
     auto& c = chunks_[ck];
@@ -98,8 +98,9 @@ PathSearch::Slot PathSearch::slot(const VoxelKey& k) {
   return {last_chunk_, (k.x & m) | ((k.y & m) << kChunkBits) | ((k.z & m) << (2 * kChunkBits))};
 }
 
-bool PathSearch::traversable(const VoxelKey& k) {
-  const Slot s = slot(k);
+inline bool PathSearch::traversable(const VoxelKey& k) { return traversable(slot(k), k); }
+
+inline bool PathSearch::traversable(const Slot& s, const VoxelKey& k) {
   uint8_t& t = s.chunk->trav[s.index];
   if (t == kUntested)
     t = occ_.isSafe(center(k), config_.vehicle_radius_m, config_.unknown_is_traversable)
@@ -194,7 +195,7 @@ uint32_t PathSearch::component(const VoxelKey& k) {
   return label;
 }
 
-PathSearch::Slot PathSearch::scratch(const VoxelKey& k) {
+inline PathSearch::Slot PathSearch::scratch(const VoxelKey& k) {
   const Slot sl = slot(k);
   Chunk& c = *sl.chunk;
   if (c.search_epoch != search_epoch_) {
@@ -310,9 +311,9 @@ PathSearch::SearchStats PathSearch::bestFirst(const Joins& starts, Heuristic&& h
     visit(k, g);
     for (int d = 0; d < 26; ++d) {
       const VoxelKey m{k.x + o.d[d].x, k.y + o.d[d].y, k.z + o.d[d].z};
-      if (!traversable(m)) continue;
-      const double gm = g + s * o.length[d];
       const Slot sm = scratch(m);
+      if (!traversable(sm, m)) continue;
+      const double gm = g + s * o.length[d];
       if (sm.chunk->closed[sm.index] || sm.chunk->g[sm.index] <= gm) continue;
       sm.chunk->g[sm.index] = gm;
       sm.chunk->parent[sm.index] = static_cast<uint8_t>(d);
@@ -474,47 +475,89 @@ std::pair<uint64_t, uint64_t> orderedKey(uint64_t id_a, uint64_t id_b) {
 
 }  // namespace
 
-const PathLengthCache::Entry* PathLengthCache::valid(const std::pair<uint64_t, uint64_t>& key,
-                                                     const Eigen::Vector3d& p,
-                                                     const Eigen::Vector3d& q) const {
+const PathLengthCache::Entry* PathLengthCache::valid(uint64_t id_a, const Eigen::Vector3d& a,
+                                                     uint64_t id_b,
+                                                     const Eigen::Vector3d& b) const {
+  const bool swap = id_b < id_a;
+  const Eigen::Vector3d& p = swap ? b : a;
+  const Eigen::Vector3d& q = swap ? a : b;
   const double tol = search_.config().endpoint_tolerance_m;
-  auto it = entries_.find(key);
+  auto it = entries_.find(orderedKey(id_a, id_b));
   if (it == entries_.end() || (it->second.a - p).norm() > tol || (it->second.b - q).norm() > tol)
     return nullptr;
   return &it->second;
 }
 
-void PathLengthCache::store(const std::pair<uint64_t, uint64_t>& key, const Eigen::Vector3d& p,
-                            const Eigen::Vector3d& q, const PathSearchResult& r) {
+void PathLengthCache::store(uint64_t id_a, const Eigen::Vector3d& a, uint64_t id_b,
+                            const Eigen::Vector3d& b, PathSearchResult r) {
+  const bool swap = id_b < id_a;
   Entry e;
-  e.a = p;
-  e.b = q;
+  e.a = swap ? b : a;
+  e.b = swap ? a : b;
   e.length_m = r.length_m;
-  VoxelKey lo = OccupancyMap::blockOf(occ_.key(p)), hi = lo;
-  for (const Eigen::Vector3d& w : r.waypoints_world_m) {
+  e.path_world_m = std::move(r.waypoints_world_m);
+  VoxelKey lo = OccupancyMap::blockOf(occ_.key(a)), hi = lo;
+  for (const Eigen::Vector3d& w : e.path_world_m) {
     const VoxelKey bk = OccupancyMap::blockOf(occ_.key(w));
     lo = {std::min(lo.x, bk.x), std::min(lo.y, bk.y), std::min(lo.z, bk.z)};
     hi = {std::max(hi.x, bk.x), std::max(hi.y, bk.y), std::max(hi.z, bk.z)};
   }
   e.block_lo = {lo.x - 1, lo.y - 1, lo.z - 1};
   e.block_hi = {hi.x + 1, hi.y + 1, hi.z + 1};
-  entries_[key] = e;
+  entries_[orderedKey(id_a, id_b)] = std::move(e);
 }
 
 std::optional<double> PathLengthCache::length(uint64_t id_a, const Eigen::Vector3d& a,
                                               uint64_t id_b, const Eigen::Vector3d& b) {
-  const bool swap = id_b < id_a;
-  const auto key = orderedKey(id_a, id_b);
-  const Eigen::Vector3d& p = swap ? b : a;
-  const Eigen::Vector3d& q = swap ? a : b;
-  if (const Entry* e = valid(key, p, q)) {
+  nodes_[id_a] = a;
+  nodes_[id_b] = b;
+  if (const Entry* e = valid(id_a, a, id_b, b)) {
     ++stats_.hits;
     return e->length_m;
   }
   ++stats_.misses;
-  const PathSearchResult r = search_.search(p, q);
-  store(key, p, q, r);
-  return r.length_m;
+  std::vector<uint64_t> ids;
+  std::vector<Eigen::Vector3d> targets;
+  for (const auto& [id_c, c] : nodes_)
+    if (id_c != id_a && id_c != id_b && !valid(id_a, a, id_c, c)) {
+      ids.push_back(id_c);
+      targets.push_back(c);
+    }
+  if (ids.size() + 1 < kMinBatch) {
+    PathSearchResult r = search_.search(a, b);
+    const std::optional<double> l = r.length_m;
+    store(id_a, a, id_b, b, std::move(r));
+    return l;
+  }
+  ++stats_.batch_searches;
+  ids.push_back(id_b);
+  targets.push_back(b);
+  std::vector<PathSearchResult> found = search_.searchFrom(a, targets);
+  const std::optional<double> l = found.back().length_m;
+  for (size_t i = 0; i < ids.size(); ++i) store(id_a, a, ids[i], targets[i], std::move(found[i]));
+  return l;
+}
+
+// Whether a changed block (its centre, grown by half its diagonal) comes within one block plus
+// the vehicle radius of a leg of the entry's path.
+bool PathLengthCache::pathNear(const Entry& e, const std::vector<VoxelKey>& blocks) const {
+  const double block_m = occ_.resolution() * OccupancyMap::kBlockSize;
+  const double reach = search_.config().vehicle_radius_m + block_m * (1.0 + 0.5 * std::sqrt(3.0));
+  const std::vector<Eigen::Vector3d>& w = e.path_world_m;
+  for (const VoxelKey& c : blocks) {
+    if (c.x < e.block_lo.x || c.x > e.block_hi.x || c.y < e.block_lo.y || c.y > e.block_hi.y ||
+        c.z < e.block_lo.z || c.z > e.block_hi.z)
+      continue;
+    const Eigen::Vector3d m =
+        (Eigen::Vector3d(c.x, c.y, c.z) + Eigen::Vector3d::Constant(0.5)) * block_m;
+    for (size_t i = 0; i + 1 < w.size(); ++i) {
+      const Eigen::Vector3d d = w[i + 1] - w[i];
+      const double len2 = d.squaredNorm();
+      const double t = len2 > 0.0 ? std::clamp((m - w[i]).dot(d) / len2, 0.0, 1.0) : 0.0;
+      if ((w[i] + t * d - m).norm() <= reach) return true;
+    }
+  }
+  return false;
 }
 
 void PathLengthCache::sync() {
@@ -531,17 +574,8 @@ void PathLengthCache::sync() {
   const auto& changed = occ_.lastChangedBlocks();
   const bool added_free = occ_.lastScanAddedFree();
   for (auto it = entries_.begin(); it != entries_.end();) {
-    bool drop = !it->second.length_m.has_value() && added_free;
-    if (!drop && it->second.length_m) {
-      const Entry& e = it->second;
-      for (const VoxelKey& c : changed) {
-        if (c.x >= e.block_lo.x && c.x <= e.block_hi.x && c.y >= e.block_lo.y &&
-            c.y <= e.block_hi.y && c.z >= e.block_lo.z && c.z <= e.block_hi.z) {
-          drop = true;
-          break;
-        }
-      }
-    }
+    const Entry& e = it->second;
+    const bool drop = e.length_m ? pathNear(e, changed) : added_free;
     if (drop) {
       ++stats_.invalidated;
       it = entries_.erase(it);
@@ -552,6 +586,7 @@ void PathLengthCache::sync() {
 }
 
 void PathLengthCache::forget(uint64_t id) {
+  nodes_.erase(id);
   for (auto it = entries_.begin(); it != entries_.end();) {
     if (it->first.first == id || it->first.second == id) {
       it = entries_.erase(it);

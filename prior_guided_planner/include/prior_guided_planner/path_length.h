@@ -23,10 +23,11 @@
 //    same rules; among equally long lattice paths it may pick another one than A*, so lengths
 //    can differ from search() by what string pulling makes of that choice.
 //  - PathLengthCache keys results by the two node ids (unordered pair) and the end positions.
-//    After each OccupancyMap::insertScan call sync(): an entry is dropped when a block changed
-//    inside its path's box (plus one block), and every "unreachable" entry is dropped when the
-//    scan added free space (cheap to answer again: a component label lookup). If several scans
-//    went by unseen, everything is dropped.
+//    After each OccupancyMap::insertScan call sync(): an entry is dropped when a changed block
+//    lies within one block plus the vehicle radius of its path (shortcuts that open farther
+//    away are not noticed until the entry is dropped for another reason), and every
+//    "unreachable" entry is dropped when the scan added free space (cheap to answer again: a
+//    component label lookup). If several scans went by unseen, everything is dropped.
 //  - Neither class is thread-safe (both memoise); the planner calls L from one thread.
 #pragma once
 
@@ -103,6 +104,7 @@ class PathSearch {
 
   Slot slot(const VoxelKey& k);
   bool traversable(const VoxelKey& k);
+  bool traversable(const Slot& s, const VoxelKey& k);
   uint32_t component(const VoxelKey& k);
   Joins attach(const Eigen::Vector3d& p);
   std::vector<Eigen::Vector3d> shorten(std::vector<Eigen::Vector3d> path) const;
@@ -135,20 +137,29 @@ struct PathCacheStats {
   size_t hits = 0;
   size_t misses = 0;
   size_t invalidated = 0;
+  size_t batch_searches = 0;  ///< misses answered by one Dijkstra for a whole batch
 };
 
 class PathLengthCache {
  public:
   PathLengthCache(const OccupancyMap& occ, PathSearchConfig config = {});
 
-  /// L(a, b) for nodes with stable ids; searched once, then served from the cache.
+  /// Misses from one node searched together (one Dijkstra) from this many on.
+  static constexpr size_t kMinBatch = 4;
+
+  /// L(a, b) for nodes with stable ids; searched once, then served from the cache. On a miss,
+  /// when at least kMinBatch nodes seen before (latest positions) also miss their entry with
+  /// `a`, one Dijkstra from `a` fills all of them (PathSearch::searchFrom).
   std::optional<double> length(uint64_t id_a, const Eigen::Vector3d& a_world_m, uint64_t id_b,
                                const Eigen::Vector3d& b_world_m);
   /// Invalidates what the occupancy's latest scan(s) may have changed.
   void sync();
   /// Forgets every entry that involves node `id` (a viewpoint that was dropped).
   void forget(uint64_t id);
-  void clear() { entries_.clear(); }
+  void clear() {
+    entries_.clear();
+    nodes_.clear();
+  }
   size_t size() const { return entries_.size(); }
   const PathCacheStats& stats() const { return stats_; }
   PathSearch& search() { return search_; }
@@ -157,6 +168,7 @@ class PathLengthCache {
   struct Entry {
     Eigen::Vector3d a, b;
     std::optional<double> length_m;
+    std::vector<Eigen::Vector3d> path_world_m;  ///< waypoints when found
     VoxelKey block_lo, block_hi;  ///< box of the path in occupancy blocks, grown by one
   };
   struct PairHash {
@@ -166,13 +178,17 @@ class PathLengthCache {
   };
 
   const OccupancyMap& occ_;
-  const Entry* valid(const std::pair<uint64_t, uint64_t>& key, const Eigen::Vector3d& p,
-                     const Eigen::Vector3d& q) const;
-  void store(const std::pair<uint64_t, uint64_t>& key, const Eigen::Vector3d& p,
-             const Eigen::Vector3d& q, const PathSearchResult& r);
+  /// The entry of the pair when both ends are where it was searched, else nullptr.
+  const Entry* valid(uint64_t id_a, const Eigen::Vector3d& a, uint64_t id_b,
+                     const Eigen::Vector3d& b) const;
+  /// Stores the result of a search from a to b.
+  void store(uint64_t id_a, const Eigen::Vector3d& a, uint64_t id_b, const Eigen::Vector3d& b,
+             PathSearchResult r);
+  bool pathNear(const Entry& e, const std::vector<VoxelKey>& blocks) const;
 
   PathSearch search_;
   std::unordered_map<std::pair<uint64_t, uint64_t>, Entry, PairHash> entries_;
+  std::unordered_map<uint64_t, Eigen::Vector3d> nodes_;  ///< latest position per node id
   uint64_t synced_revision_ = 0;
   PathCacheStats stats_;
 };
