@@ -1,6 +1,7 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include "prior_guided_planner/hierarchical_planner.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "efs_common/config_check.h"
@@ -14,6 +15,7 @@ void HierarchicalPlannerConfig::validate() const {
   fe_tsp.validate();
   greedy.validate();
   requireInRange("min_confidence", min_confidence, 0.0, 1e9);
+  requireInRange("prior_free_max_viewpoints", prior_free_max_viewpoints, 1, 100000);
 }
 
 HierarchicalPlanner::HierarchicalPlanner(HierarchicalPlannerConfig config) : config_(config) {
@@ -132,8 +134,36 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) const {
   // predicted unknown in reach (greedy_prior): prior-free.
   res.mode_used = BaselineMode::kPriorFree;
   res.active_hypothesis_id = -1;
-  res.tour = solvePriorFreeTour(in.robot, in.viewpoints, in.path_length_m, config_.fe_tsp);
+  res.tour = priorFreeTour(in, robot_len);
   return res;
+}
+
+LocalTour HierarchicalPlanner::priorFreeTour(const PlanningInput& in,
+                                             const std::vector<double>& robot_len) const {
+  const int nv = static_cast<int>(in.viewpoints.size());
+  std::vector<int> near;
+  std::vector<int> unreachable;
+  for (int i = 0; i < nv; ++i) (robot_len[i] < kUnreachable ? near : unreachable).push_back(i);
+  if (static_cast<int>(near.size()) > config_.prior_free_max_viewpoints) {
+    std::stable_sort(near.begin(), near.end(),
+                     [&](int a, int b) { return robot_len[a] < robot_len[b]; });
+    near.resize(config_.prior_free_max_viewpoints);
+  } else if (unreachable.empty()) {
+    return solvePriorFreeTour(in.robot, in.viewpoints, in.path_length_m, config_.fe_tsp);
+  }
+  std::vector<PlanViewpoint> sub;
+  for (int i : near) sub.push_back(in.viewpoints[i]);
+  const PathLengthFn sub_len = [&](int a, int b) {
+    return in.path_length_m(a == kRobotNode ? kRobotNode : near[a],
+                            b == kRobotNode ? kRobotNode : near[b]);
+  };
+  LocalTour t = solvePriorFreeTour(in.robot, sub, sub_len, config_.fe_tsp);
+  for (int& v : t.viewpoints) v = near[v];
+  for (int& v : t.unreachable_viewpoints) v = near[v];
+  t.unreachable_viewpoints.insert(t.unreachable_viewpoints.end(), unreachable.begin(),
+                                  unreachable.end());
+  std::sort(t.unreachable_viewpoints.begin(), t.unreachable_viewpoints.end());
+  return t;
 }
 
 }  // namespace efs::planner

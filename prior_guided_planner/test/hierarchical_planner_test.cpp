@@ -175,5 +175,42 @@ TEST(HierarchicalPlanner, NoPriorMeansPriorFreeAndModesAreSelectable) {
   EXPECT_DOUBLE_EQ(cfg.fe_tsp.v_max_mps, 4.0);
 }
 
+// The prior-free tour covers the nearest viewpoints only and never asks for path lengths
+// between the others; unreachable ones are reported, not toured.
+TEST(HierarchicalPlanner, PriorFreeTourIsBoundedToTheNearestViewpoints) {
+  PlanningInput in;
+  in.robot.position_world_m = Eigen::Vector3d(0, 0, 1);
+  for (int i = 0; i < 30; ++i)
+    in.viewpoints.push_back(PlanViewpoint{i, {3.0 + 2.0 * i, (i % 2) ? 1.0 : -1.0, 1.0}, 0.0});
+  const auto vps = in.viewpoints;
+  int far_pairs = 0;
+  in.path_length_m = [&](int a, int b) {
+    if (b == 29 || a == 29) return kUnreachable;  // one viewpoint nobody reaches
+    if (a != kRobotNode && b != kRobotNode && (a >= 10 || b >= 10)) ++far_pairs;
+    const Eigen::Vector3d pa =
+        a == kRobotNode ? in.robot.position_world_m : vps[a].position_world_m;
+    const Eigen::Vector3d pb =
+        b == kRobotNode ? in.robot.position_world_m : vps[b].position_world_m;
+    return (pa - pb).norm();
+  };
+  HierarchicalPlannerConfig c;
+  c.prior_free_max_viewpoints = 10;
+  const PlanningResult r = HierarchicalPlanner(c).plan(in);
+  ASSERT_EQ(r.status, PlanningStatus::kOk);
+  EXPECT_EQ(r.mode_used, BaselineMode::kPriorFree);
+  ASSERT_EQ(r.tour.viewpoints.size(), 10u);
+  for (int v : r.tour.viewpoints) EXPECT_LT(v, 10);
+  EXPECT_EQ(r.tour.viewpoints.front(), 0);  // along the line, nearest first
+  EXPECT_EQ(far_pairs, 0);
+  EXPECT_EQ(r.tour.unreachable_viewpoints, std::vector<int>{29});
+  // Unbounded (large enough): every reachable viewpoint is toured.
+  c.prior_free_max_viewpoints = 100;
+  const PlanningResult all = HierarchicalPlanner(c).plan(in);
+  EXPECT_EQ(all.tour.viewpoints.size(), 29u);
+  EXPECT_EQ(all.tour.unreachable_viewpoints, std::vector<int>{29});
+  c.prior_free_max_viewpoints = 0;
+  EXPECT_THROW(HierarchicalPlanner{c}, ConfigError);
+}
+
 }  // namespace
 }  // namespace efs::planner

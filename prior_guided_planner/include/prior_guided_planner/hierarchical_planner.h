@@ -29,6 +29,9 @@ struct HierarchicalPlannerConfig {
   GreedyPriorConfig greedy;
   /// Hypotheses with a confidence below this are not used (and reported as rejected).
   double min_confidence = 0.0;
+  /// The prior-free tour (and fallback) covers at most this many viewpoints, the nearest by
+  /// L(X_r, V); the others wait for a later plan. Bounds the O(N^2) path lengths of the tour.
+  int prior_free_max_viewpoints = 40;
   /// Throws efs::ConfigError naming the key.
   void validate() const;
 };
@@ -82,6 +85,8 @@ class HierarchicalPlanner {
   const HierarchicalPlannerConfig& config() const { return config_; }
 
  private:
+  LocalTour priorFreeTour(const PlanningInput& in, const std::vector<double>& robot_len) const;
+
   HierarchicalPlannerConfig config_;
 };
 
