@@ -41,13 +41,6 @@ const char* toString(CellState s) {
   return "?";
 }
 
-namespace {
-inline int posMod(int a, int n) {
-  const int r = a % n;
-  return r < 0 ? r + n : r;
-}
-}  // namespace
-
 LocalGrid::LocalGrid(const LocalGridConfig& cfg, const Eigen::Vector3d& c) : cfg_(cfg) {
   cfg_.validate();
   nx_ = static_cast<int>(std::ceil(cfg_.size_x_m / cfg_.resolution_m - 1e-6));
@@ -76,20 +69,14 @@ Eigen::Vector3d LocalGrid::windowMax() const {
   return Eigen::Vector3d(min_key_.x + nx_, min_key_.y + ny_, min_key_.z + nz_) * cfg_.resolution_m;
 }
 
-bool LocalGrid::inWindow(const VoxelKey& k) const {
-  return k.x >= min_key_.x && k.x < min_key_.x + nx_ && k.y >= min_key_.y &&
-         k.y < min_key_.y + ny_ && k.z >= min_key_.z && k.z < min_key_.z + nz_;
-}
-
-size_t LocalGrid::index(const VoxelKey& k) const {
-  return (static_cast<size_t>(posMod(k.x, nx_)) * ny_ + posMod(k.y, ny_)) * nz_ + posMod(k.z, nz_);
-}
-
 namespace {
 // Key held by each slot along one axis for a window starting at min_key (slot = key mod n).
 std::vector<int> slotKeys(int min_key, int n) {
   std::vector<int> keys(n);
-  for (int i = 0; i < n; ++i) keys[i] = min_key + posMod(i - min_key, n);
+  for (int i = 0; i < n; ++i) {
+    const int r = (i - min_key) % n;
+    keys[i] = min_key + (r < 0 ? r + n : r);
+  }
   return keys;
 }
 }  // namespace

@@ -56,7 +56,10 @@ class LocalGrid {
   }
   Eigen::Vector3d windowMin() const;  ///< lower corner of the window [m]
   Eigen::Vector3d windowMax() const;  ///< upper corner of the window [m]
-  bool inWindow(const VoxelKey& k) const;
+  bool inWindow(const VoxelKey& k) const {
+    return k.x >= min_key_.x && k.x < min_key_.x + nx_ && k.y >= min_key_.y &&
+           k.y < min_key_.y + ny_ && k.z >= min_key_.z && k.z < min_key_.z + nz_;
+  }
   bool inWindow(const Eigen::Vector3d& p) const { return inWindow(key(p)); }
 
   /// Moves the window so that it is centred on `center_world_m`; forgotten cells become unknown.
@@ -88,7 +91,15 @@ class LocalGrid {
   size_t occupiedCount() const;
 
  private:
-  size_t index(const VoxelKey& k) const;
+  // Inline: called per visited cell by ray casting, inflation stamping and A*.
+  static int posMod(int a, int n) {
+    const int r = a % n;
+    return r < 0 ? r + n : r;
+  }
+  size_t index(const VoxelKey& k) const {
+    return (static_cast<size_t>(posMod(k.x, nx_)) * ny_ + posMod(k.y, ny_)) * nz_ +
+           posMod(k.z, nz_);
+  }
   void updateCell(size_t idx, const VoxelKey& k, float delta);
   void stampInflation(const VoxelKey& k, int sign);
   void recomputeInflation();
