@@ -3,7 +3,8 @@
 // se3_controller_node (two instances: SO3Command output, and AttitudeTarget output in the
 // namespace px4) fed odometry and position commands by the test: hover gives thrust m g and a
 // level attitude (normalised hover throttle on AttitudeTarget); stale odometry gives a level
-// attitude and less than m g (descent); a NaN command is refused and the vehicle hovers.
+// attitude and less than m g (descent); a NaN command is refused and the vehicle hovers; without
+// commands it hovers where it is.
 #include <explore_from_sketch/AttitudeTarget.h>
 #include <explore_from_sketch/PositionCommand.h>
 #include <explore_from_sketch/SO3Command.h>
@@ -133,6 +134,24 @@ TEST_F(Se3ControllerNodeTest, HoverStaleOdometryAndNanCommand) {
   EXPECT_NEAR(so3_.back().force.z, kMassKg * kG, 0.05);
   EXPECT_LT(tiltRad(so3_.back().orientation), 1e-6);
   EXPECT_TRUE(logs.waitFor("/se3_controller", "hold", 5.0));
+
+  // Commands stop, odometry goes on: hover where the vehicle is.
+  run(0.5, true, 1.0);
+  so3_.clear();
+  const ros::WallTime quiet_end = ros::WallTime::now() + ros::WallDuration(1.0);
+  while (ros::WallTime::now() < quiet_end) {
+    nav_msgs::Odometry o;
+    o.header.stamp = ros::Time::now();
+    o.pose.pose.position.z = 1.0;
+    o.pose.pose.orientation.w = 1.0;
+    odom_pub_.publish(o);
+    ros::spinOnce();
+    ros::WallDuration(0.01).sleep();
+  }
+  ASSERT_GT(so3_.size(), 50u);
+  EXPECT_NEAR(so3_.back().force.z, kMassKg * kG, 0.05);
+  EXPECT_LT(tiltRad(so3_.back().orientation), 1e-6);
+  EXPECT_TRUE(logs.waitFor("/se3_controller", "reference stale", 5.0));
   EXPECT_TRUE(efs::rostest::nodeAlive("/se3_controller"));
 }
 
