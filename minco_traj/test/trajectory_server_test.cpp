@@ -156,6 +156,29 @@ TEST(TrajectoryServer, GoalBeyondTheWindowIsReachedInStages) {
   EXPECT_GE(server.replanCount(), 2);  // implied by the two checks above; stated for clarity
 }
 
+TEST(TrajectoryServer, GoalInsideAWallIsReachedAtTheNearestFreeCell) {
+  TrajectoryServer server(smallConfig());
+  server.insertScan({0, 0, 1}, wallScan(3.0, 1.5));
+  const Eigen::Vector3d goal(3.0, 0.0, 1.0);  // on the wall
+  server.setGoal(goal, std::nullopt, 0.0);
+  VehicleState state = at({0, 0, 1});
+  bool reached = false;
+  for (double t = 0.0; t < 15.0 && !reached; t += 0.01) {
+    const ServerEvent e = server.update(t, state);
+    ASSERT_NE(e, ServerEvent::kEmergencyStop) << server.lastMessage();
+    reached = e == ServerEvent::kGoalReached;
+    state = fromReference(server.sample(t));
+  }
+  ASSERT_TRUE(reached);
+  ASSERT_NE(server.lastPlan(), nullptr);
+  EXPECT_TRUE(server.lastPlan()->goal_adjusted);
+  // Stopped in front of the wall, outside its inflation, within the goal search radius.
+  EXPECT_LT(state.p_world_m.x(), 3.0 - server.config().grid.inflation_radius_m + 0.05);
+  EXPECT_LE((state.p_world_m - goal).norm(),
+            server.config().planner.astar.goal_search_radius_m + 0.1);
+  EXPECT_LT(LocalPlanner::firstCollisionTime(*server.current(), server.grid(), 0.0, 100.0), 0.0);
+}
+
 TEST(TrajectoryServer, EmergencyStopWhenTheGoalIsEnclosed) {
   TrajectoryServer server(smallConfig());
   LocalGrid& grid = server.mutableGrid();
