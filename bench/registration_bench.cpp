@@ -87,12 +87,14 @@ int main(int argc, char** argv) {
     frame_cpu_ms.push_back(cpu_ms);
     ++frames;
     char line[256];
-    double err = -1.0;
+    // err_m: "-" while there is no hypothesis.
+    char err[16] = "      -";
     if (!r.hypotheses.empty()) {
-      err = (r.hypotheses[0].T_world_sketch.apply(T_true.inverse().apply(p)) - p).norm();
+      std::snprintf(err, sizeof(err), "%7.2f",
+                    (r.hypotheses[0].T_world_sketch.apply(T_true.inverse().apply(p)) - p).norm());
     }
     std::snprintf(line, sizeof(line),
-                  "| %5d | %7.1f | %7.1f | %6zu | %5zu | %4zu | %4zu | %-22s | %7.2f |", frames, ms,
+                  "| %5d | %7.1f | %7.1f | %6zu | %5zu | %4zu | %4zu | %-22s | %s |", frames, ms,
                   cpu_ms, local_map.size(), r.last_frame.candidates.size(), r.last_frame.icp_runs,
                   r.hypotheses.size(), reg::toString(r.status), err);
     rows.push_back(line);
