@@ -88,14 +88,16 @@ PathSearch::~PathSearch() = default;
 
 inline PathSearch::Slot PathSearch::slot(const VoxelKey& k) {
   const VoxelKey ck{k.x >> kChunkBits, k.y >> kChunkBits, k.z >> kChunkBits};
-  if (!last_chunk_ || ck != last_chunk_key_) {
+  // Direct-mapped cache of recently used chunks (a node's neighbours span up to 8 chunks).
+  const size_t line = static_cast<size_t>((ck.x & 3) | ((ck.y & 3) << 2) | ((ck.z & 1) << 4));
+  ChunkCacheLine& cl = chunk_cache_[line];
+  if (!cl.chunk || cl.key != ck) {
     auto& c = chunks_[ck];
     if (!c) c = std::make_unique<Chunk>();
-    last_chunk_ = c.get();
-    last_chunk_key_ = ck;
+    cl = {ck, c.get()};
   }
   const int m = kChunkSize - 1;
-  return {last_chunk_, (k.x & m) | ((k.y & m) << kChunkBits) | ((k.z & m) << (2 * kChunkBits))};
+  return {cl.chunk, (k.x & m) | ((k.y & m) << kChunkBits) | ((k.z & m) << (2 * kChunkBits))};
 }
 
 inline bool PathSearch::traversable(const VoxelKey& k) { return traversable(slot(k), k); }
@@ -111,7 +113,7 @@ inline bool PathSearch::traversable(const Slot& s, const VoxelKey& k) {
 
 void PathSearch::clearMemo() {
   chunks_.clear();
-  last_chunk_ = nullptr;
+  chunk_cache_.fill(ChunkCacheLine{});
   ++label_epoch_;
 }
 
@@ -206,6 +208,23 @@ inline PathSearch::Slot PathSearch::scratch(const VoxelKey& k) {
   return sl;
 }
 
+// OccupancyMap::segmentSafe with the same samples, visited every kStride-th first: a segment
+// through a wall fails after a fraction of the samples (string pulling tries many of those).
+bool PathSearch::segmentSafe(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius_m,
+                             bool unknown_is_safe) const {
+  constexpr int kStride = 4;
+  const double len = (b - a).norm();
+  const int n = std::max(1, static_cast<int>(std::ceil(len / (0.5 * occ_.resolution()))));
+  auto safe = [&](int i) {
+    return occ_.isSafe(a + (b - a) * (static_cast<double>(i) / n), radius_m, unknown_is_safe);
+  };
+  for (int i = 0; i <= n; i += kStride)
+    if (!safe(i)) return false;
+  for (int i = 0; i <= n; ++i)
+    if (i % kStride != 0 && !safe(i)) return false;
+  return true;
+}
+
 // End points join the lattice through one of the 27 nodes around them, by a segment that
 // crosses no occupied cell (the end points themselves may sit closer to a wall than the
 // vehicle radius, e.g. the robot after a tight turn).
@@ -217,7 +236,7 @@ PathSearch::Joins PathSearch::attach(const Eigen::Vector3d& p) {
       for (int dx = -1; dx <= 1; ++dx) {
         const VoxelKey k{k0.x + dx, k0.y + dy, k0.z + dz};
         if (!traversable(k)) continue;
-        if (!occ_.segmentSafe(p, center(k), 0.0, true)) continue;
+        if (!segmentSafe(p, center(k), 0.0, true)) continue;
         out.emplace_back(k, (center(k) - p).norm());
       }
   return out;
@@ -235,7 +254,7 @@ std::vector<Eigen::Vector3d> PathSearch::shorten(std::vector<Eigen::Vector3d> pa
     size_t j = i + 1;
     for (size_t t = path.size() - 1; t > i + 1; --t) {
       const bool ends = (i == 0 || t == path.size() - 1);
-      if (occ_.segmentSafe(path[i], path[t], ends ? 0.0 : r, ends ? true : unk)) {
+      if (segmentSafe(path[i], path[t], ends ? 0.0 : r, ends ? true : unk)) {
         j = t;
         break;
       }
@@ -326,7 +345,7 @@ PathSearch::SearchStats PathSearch::bestFirst(const Joins& starts, Heuristic&& h
 bool PathSearch::connected(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   if (!a.allFinite() || !b.allFinite()) return false;
   ensureCurrent();
-  if (occ_.segmentSafe(a, b, config_.vehicle_radius_m, config_.unknown_is_traversable)) return true;
+  if (segmentSafe(a, b, config_.vehicle_radius_m, config_.unknown_is_traversable)) return true;
   std::vector<uint32_t> la;
   for (const auto& [k, c] : attach(a)) la.push_back(component(k));
   for (const auto& [k, c] : attach(b))
@@ -340,7 +359,7 @@ PathSearchResult PathSearch::search(const Eigen::Vector3d& a, const Eigen::Vecto
   ensureCurrent();
   const double r = config_.vehicle_radius_m;
   const bool unk = config_.unknown_is_traversable;
-  if (occ_.segmentSafe(a, b, r, unk)) {
+  if (segmentSafe(a, b, r, unk)) {
     res.length_m = (b - a).norm();
     res.waypoints_world_m = {a, b};
     res.straight = true;
@@ -398,7 +417,7 @@ std::vector<PathSearchResult> PathSearch::searchFrom(const Eigen::Vector3d& a,
   for (size_t i = 0; i < targets.size(); ++i) {
     const Eigen::Vector3d& b = targets[i];
     if (!b.allFinite()) continue;
-    if (occ_.segmentSafe(a, b, r, unk)) {
+    if (segmentSafe(a, b, r, unk)) {
       out[i].length_m = (b - a).norm();
       out[i].waypoints_world_m = {a, b};
       out[i].straight = true;
@@ -538,11 +557,12 @@ std::optional<double> PathLengthCache::length(uint64_t id_a, const Eigen::Vector
   return l;
 }
 
-// Whether a changed block (its centre, grown by half its diagonal) comes within one block plus
-// the vehicle radius of a leg of the entry's path.
+// Whether a changed block (its centre, grown by half its diagonal) comes within the vehicle
+// radius plus one lattice step of a leg of the entry's path.
 bool PathLengthCache::pathNear(const Entry& e, const std::vector<VoxelKey>& blocks) const {
   const double block_m = occ_.resolution() * OccupancyMap::kBlockSize;
-  const double reach = search_.config().vehicle_radius_m + block_m * (1.0 + 0.5 * std::sqrt(3.0));
+  const double reach = search_.config().vehicle_radius_m + search_.config().search_resolution_m +
+                       0.5 * std::sqrt(3.0) * block_m;
   const std::vector<Eigen::Vector3d>& w = e.path_world_m;
   for (const VoxelKey& c : blocks) {
     if (c.x < e.block_lo.x || c.x > e.block_hi.x || c.y < e.block_lo.y || c.y > e.block_hi.y ||

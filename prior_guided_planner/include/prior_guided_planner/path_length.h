@@ -24,14 +24,15 @@
 //    can differ from search() by what string pulling makes of that choice.
 //  - PathLengthCache keys results by the two node ids (unordered pair) and the end positions.
 //    After each OccupancyMap::insertScan call sync(): an entry is dropped when a changed block
-//    lies within one block plus the vehicle radius of its path (shortcuts that open farther
-//    away are not noticed until the entry is dropped for another reason), and every
+//    lies within the vehicle radius plus one lattice step of its path (shortcuts that open
+//    farther away are not noticed until the entry is dropped for another reason), and every
 //    "unreachable" entry is dropped when the scan added free space (cheap to answer again: a
 //    component label lookup). If several scans went by unseen, everything is dropped.
 //  - Neither class is thread-safe (both memoise); the planner calls L from one thread.
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -108,6 +109,8 @@ class PathSearch {
   uint32_t component(const VoxelKey& k);
   Joins attach(const Eigen::Vector3d& p);
   std::vector<Eigen::Vector3d> shorten(std::vector<Eigen::Vector3d> path) const;
+  bool segmentSafe(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius_m,
+                   bool unknown_is_safe) const;
   std::vector<Eigen::Vector3d> tracePath(const Eigen::Vector3d& a, const VoxelKey& last,
                                          const Eigen::Vector3d& b);
   struct SearchStats {
@@ -125,8 +128,11 @@ class PathSearch {
   const OccupancyMap& occ_;
   PathSearchConfig config_;
   std::unordered_map<VoxelKey, std::unique_ptr<Chunk>, VoxelKeyHash> chunks_;
-  VoxelKey last_chunk_key_;
-  Chunk* last_chunk_ = nullptr;
+  struct ChunkCacheLine {
+    VoxelKey key;
+    Chunk* chunk = nullptr;
+  };
+  std::array<ChunkCacheLine, 32> chunk_cache_{};
   uint64_t memo_revision_ = 0;
   uint32_t label_epoch_ = 1;  ///< component labels of older epochs are stale
   uint32_t next_label_ = 1;
