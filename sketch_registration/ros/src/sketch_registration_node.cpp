@@ -18,7 +18,7 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   ros_common::ParamReader p(private_nh);
   SketchRegistrationNodeConfig c;
   SketchRegistration::Config& r = c.registration;
-  p.require("prior_bundle_path", c.prior_bundle_path);
+  p.get("prior_bundle_path", c.prior_bundle_path);
   p.get("world_frame", c.markers.world_frame);
   p.get("sketch_frame", c.markers.sketch_frame);
   p.get("publish_tf", c.publish_tf);
@@ -63,7 +63,6 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   p.get("max_hypotheses", r.max_hypotheses);
   p.rejectUnknown();
 
-  requireThat(!c.prior_bundle_path.empty(), "prior_bundle_path", "must name a .prior file");
   requireThat(!c.markers.world_frame.empty(), "world_frame", "must not be empty");
   requireThat(!c.markers.sketch_frame.empty(), "sketch_frame", "must not be empty");
   requireInRange("marker_max_boundary_points", c.markers.max_boundary_points, 1, 1000000);
@@ -77,6 +76,9 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
 SketchRegistrationNode::SketchRegistrationNode(ros::NodeHandle nh,
                                                const SketchRegistrationNodeConfig& config)
     : config_(config) {
+  // Checked here, not by the loader: the shipped YAML leaves it to the launch file.
+  requireThat(!config_.prior_bundle_path.empty(), "prior_bundle_path",
+              "must name a .prior file (prior_map_build)");
   const prior_map::PriorBundle bundle = prior_map::loadPriorBundle(config_.prior_bundle_path);
   prior_ =
       registrationPriorFromBundle(bundle, config_.registration.d_gap_m, config_.boundary_spacing_m);

@@ -21,7 +21,7 @@
 namespace efs::registration {
 
 struct SketchRegistrationNodeConfig {
-  std::string prior_bundle_path;    ///< required: a .prior file (prior_map_build)
+  std::string prior_bundle_path;    ///< a .prior file (prior_map_build); the node needs one
   double boundary_spacing_m = 0.2;  ///< sketch wall points are thinned to this spacing
   bool publish_tf = false;          ///< broadcast the best hypothesis' rigid part
   MarkerConfig markers;
@@ -29,12 +29,13 @@ struct SketchRegistrationNodeConfig {
 };
 
 /// Reads the node's private parameters (every key of config/sketch_registration.yaml); throws
-/// efs::ConfigError naming the key on a bad, missing or unknown one.
+/// efs::ConfigError naming the key on a bad or unknown one.
 SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHandle& private_nh);
 
 class SketchRegistrationNode {
  public:
-  /// Loads the bundle (throws PriorMapError naming the file) and runs Phase 1.
+  /// Loads the bundle (throws ConfigError if prior_bundle_path is empty, PriorMapError naming the
+  /// file if it cannot be read) and runs Phase 1.
   SketchRegistrationNode(ros::NodeHandle nh, const SketchRegistrationNodeConfig& config);
 
  private:
