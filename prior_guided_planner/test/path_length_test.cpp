@@ -344,6 +344,86 @@ TEST(PathLength, CacheServesRepeatsAndForgetsWhatAScanChanged) {
   EXPECT_EQ(cache.size(), 0u);
 }
 
+// A miss from one node is answered for every node seen before with one Dijkstra; the lengths
+// equal one A* per pair within what string pulling makes of an equally long lattice path.
+TEST(PathLength, CacheBatchesTheMissesOfOneNode) {
+  Scene s;
+  s.room = {Eigen::Vector3d(-10, -10, -0.05), Eigen::Vector3d(10, 10, 4)};
+  s.solids.push_back({Eigen::Vector3d(-0.15, -10.1, -0.1), Eigen::Vector3d(0.15, 2.0, 4.1)});
+  OccupancyMap occ;
+  scanFrom(occ, s,
+           {Eigen::Vector3d(-3, 0, 2), Eigen::Vector3d(3, 0, 2), Eigen::Vector3d(0, 5, 2),
+            Eigen::Vector3d(-3, -4, 2), Eigen::Vector3d(3, -4, 2)});
+  PathLengthCache cache(occ);
+  const std::vector<Eigen::Vector3d> p = {{-3, -3, 2}, {3, -3, 2}, {4, -7, 2},  {2, 4, 2},
+                                          {-5, 5, 2},  {6, 1, 2},  {-6, -7, 2}, {30, 30, 2}};
+  // Node 1 meets nodes 2..3 first (too few for a batch), then every other node with node 0.
+  cache.length(1, p[1], 2, p[2]);
+  cache.length(1, p[1], 3, p[3]);
+  EXPECT_EQ(cache.stats().batch_searches, 0u);
+  for (uint64_t i = 4; i < p.size(); ++i) cache.length(1, p[1], i, p[i]);
+  const size_t misses = cache.stats().misses;
+  const auto l = cache.length(0, p[0], 1, p[1]);
+  EXPECT_EQ(cache.stats().batch_searches, 1u);
+  for (uint64_t i = 2; i < p.size(); ++i) cache.length(i, p[i], 0, p[0]);
+  EXPECT_EQ(cache.stats().misses, misses + 1);  // the rest were filled by the batch
+  PathSearch ps(occ);
+  ASSERT_TRUE(l.has_value());
+  for (uint64_t i = 1; i < p.size(); ++i) {
+    const auto batched = cache.length(0, p[0], i, p[i]);
+    const auto one = ps.search(p[0], p[i]).length_m;
+    ASSERT_EQ(batched.has_value(), one.has_value()) << "node " << i;
+    if (one) {
+      EXPECT_NEAR(*batched, *one, 0.05 * *one) << "node " << i;
+    }
+  }
+  EXPECT_FALSE(cache.length(0, p[0], 7, p[7]).has_value());  // unknown space
+  // Forgotten nodes are no batch targets any more.
+  for (uint64_t i = 2; i < p.size(); ++i) cache.forget(i);
+  cache.clear();
+  cache.length(0, p[0], 1, p[1]);
+  EXPECT_EQ(cache.stats().batch_searches, 1u);
+}
+
+// A pillar appears next to one path and far from another one: only the entry it can change is
+// dropped (the scan that shows it reaches 3 m, so every changed block is near the pillar).
+TEST(PathLength, CacheDropsOnlyEntriesNearWhatAScanChanged) {
+  Scene s;
+  s.room = {Eigen::Vector3d(-15, -15, -0.05), Eigen::Vector3d(15, 15, 4)};
+  s.solids.push_back({Eigen::Vector3d(-0.15, -15.1, -0.1), Eigen::Vector3d(0.15, 8.0, 4.1)});
+  OccupancyConfig oc;
+  oc.max_range_m = 12.0;
+  OccupancyMap occ(oc);
+  for (double x : {-12.0, -6.0, 6.0, 12.0})
+    for (double y : {-12.0, -6.0, 0.0, 6.0, 12.0}) scanFrom(occ, s, {Eigen::Vector3d(x, y, 2)});
+  scanFrom(occ, s, {Eigen::Vector3d(0, 12, 2)});
+  PathLengthCache cache(occ);
+  const Eigen::Vector3d a(-6, -12, 2), b(6, -12, 2);  // around the wall's end at y = 8
+  const Eigen::Vector3d c(-14, 2, 2), d(-10, 10, 2);  // straight, through the future pillar
+  const auto around = cache.length(1, a, 2, b);
+  ASSERT_TRUE(around.has_value());
+  EXPECT_GT(*around, 2.0 * (Eigen::Vector3d(0, 8, 2) - a).norm());
+  const auto past = cache.length(3, c, 4, d);
+  ASSERT_TRUE(past.has_value());
+  EXPECT_NEAR(*past, (d - c).norm(), 1e-9);
+  Scene with_pillar = s;
+  with_pillar.solids.push_back(
+      {Eigen::Vector3d(-12.5, 5.5, -0.1), Eigen::Vector3d(-11.5, 6.5, 4.1)});
+  const Eigen::Vector3d o(-12, 3, 2);
+  for (int k = 0; k < 4; ++k) {
+    occ.insertScan(o, with_pillar.scanSphere(o, 1.0, 3.0));
+    cache.sync();
+  }
+  ASSERT_TRUE(occ.isOccupied(occ.key(Eigen::Vector3d(-12.0, 5.55, 2.0))));
+  const size_t hits = cache.stats().hits;
+  EXPECT_EQ(cache.length(1, a, 2, b), around);
+  EXPECT_EQ(cache.stats().hits, hits + 1);
+  const auto detour = cache.length(3, c, 4, d);
+  EXPECT_EQ(cache.stats().hits, hits + 1);  // searched again
+  ASSERT_TRUE(detour.has_value());
+  EXPECT_GT(*detour, *past + 0.05);
+}
+
 TEST(PathLength, ConfigErrorsNameTheKey) {
   OccupancyMap occ;
   PathSearchConfig c;
