@@ -16,16 +16,19 @@
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <visualization_msgs/MarkerArray.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#include <set>
 #include <string>
 #include <thread>
 
 #include "../../prior_guided_planner/test/observation_map_test_scenes.h"
 #include "efs_common_ros/cloud_conversions.h"
+#include "prior_guided_planner_ros/planner_markers.h"
 #include "prior_map_tools/prior_bundle.h"
 #include "prior_map_tools/prior_map_builder.h"
 #include "prior_map_tools/sketch_loader.h"
@@ -292,12 +295,19 @@ class PriorPlannerNodeTest : public PlannerNodeTest {
     PlannerNodeTest::SetUp();
     guidepoints_sub_ =
         nh_.subscribe(ns() + "/guidepoints", 10, &PriorPlannerNodeTest::onGuidepoints, this);
+    markers_sub_ =
+        nh_.subscribe(ns() + "/planner_markers", 10, &PriorPlannerNodeTest::onMarkers, this);
   }
   void TearDown() override { node_.join(); }
   void onGuidepoints(const explore_from_sketch::Guidepoints& m) { last_guidepoints_ = m; }
+  void onMarkers(const visualization_msgs::MarkerArray& m) {
+    for (const auto& mk : m.markers)
+      if (!mk.points.empty()) marker_ns_.insert(mk.ns);
+  }
 
   std::thread node_;
-  ros::Subscriber guidepoints_sub_;
+  ros::Subscriber guidepoints_sub_, markers_sub_;
+  std::set<std::string> marker_ns_;  ///< namespaces of non-empty markers received
   explore_from_sketch::Guidepoints last_guidepoints_;
 };
 
@@ -323,7 +333,51 @@ TEST_F(PriorPlannerNodeTest, AHypothesisGuidesAndGuidepointsCarryStates) {
     seen += st == explore_from_sketch::Guidepoints::EXPLORING ||
             st == explore_from_sketch::Guidepoints::EXPLORED;
   EXPECT_GT(seen, 0) << "the guidepoints near the robot are being explored";
+  for (const char* ns : {"guidepoints", "viewpoints", "tour"})
+    EXPECT_TRUE(marker_ns_.count(ns)) << "no marker '" << ns << "' on planner_markers";
   ASSERT_GT(target_count_, 0);
+}
+
+// The markers of a manager that planned with a hypothesis: one non-empty marker per part.
+TEST(PlannerMarkers, EveryPartOfThePlanIsDrawn) {
+  efs::planner::testing::Scene room;
+  room.room = {Eigen::Vector3d(0.15, -2.85, 0.15), Eigen::Vector3d(15.75, 3.15, 3.15)};
+  efs::planner::GuidepointPrior prior;
+  for (int i = 0; i < 4; ++i) {
+    prior.ids.push_back(i);
+    prior.positions_sketch_m.emplace_back(2.0 + 4.0 * i, 0.0);
+  }
+  prior.prm_distance_m = efs::planner::CostMatrix(4);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) prior.prm_distance_m(i, j) = 4.0 * std::abs(i - j);
+  efs::planner::ExplorationManager m(efs::planner::ExplorationManagerConfig{}, prior);
+  const Eigen::Vector3d o(2.0, 0.1, 1.6);
+  std::vector<Eigen::Vector3f> pts;
+  for (const Eigen::Vector3d& p : room.scanSphere(o, 1.0)) pts.push_back(p.cast<float>());
+  m.insertScan(o, pts);
+  m.setHypotheses({efs::planner::Hypothesis{5, efs::Sim2(), 1.0}});
+  efs::planner::RobotPose robot;
+  robot.position_world_m = o;
+  ASSERT_TRUE(m.update(0.0, robot).has_goal);
+  std_msgs::Header h;
+  h.frame_id = "world";
+  const auto markers = efs::planner::plannerMarkers(m, robot, h, {});
+  ASSERT_FALSE(markers.markers.empty());
+  EXPECT_EQ(markers.markers.front().action, visualization_msgs::Marker::DELETEALL);
+  std::set<std::string> drawn;
+  for (const auto& mk : markers.markers) {
+    if (mk.action != visualization_msgs::Marker::ADD) continue;
+    EXPECT_EQ(mk.header.frame_id, "world");
+    if (mk.type == visualization_msgs::Marker::ARROW || !mk.points.empty()) drawn.insert(mk.ns);
+    if (!mk.colors.empty()) EXPECT_EQ(mk.colors.size(), mk.points.size()) << mk.ns;
+  }
+  for (const char* ns :
+       {"viewpoints", "guidepoints", "guidepoint_sequence", "tour", "goal", "frontiers"})
+    EXPECT_TRUE(drawn.count(ns)) << "no marker '" << ns << "'";
+  efs::planner::PlannerMarkerOptions few;
+  few.max_frontier_cells = 10;
+  for (const auto& mk : efs::planner::plannerMarkers(m, robot, h, few).markers)
+    if (mk.ns == "frontiers") EXPECT_LE(mk.points.size(), 10u);
 }
 
 // Bad configuration stops the node at start-up with one message naming the parameter.

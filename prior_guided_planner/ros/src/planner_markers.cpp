@@ -29,14 +29,6 @@ std_msgs::ColorRGBA palette(int i) {
   return rgba(k[j][0], k[j][1], k[j][2]);
 }
 
-geometry_msgs::Point point(const Eigen::Vector3d& p) {
-  geometry_msgs::Point q;
-  q.x = p.x();
-  q.y = p.y();
-  q.z = p.z();
-  return q;
-}
-
 visualization_msgs::Marker base(const std_msgs::Header& header, const std::string& ns, int type,
                                 double scale_m) {
   visualization_msgs::Marker m;
@@ -67,6 +59,14 @@ std_msgs::ColorRGBA stateColour(GuidepointState s) {
 
 }  // namespace
 
+geometry_msgs::Point toPointMsg(const Eigen::Vector3d& p) {
+  geometry_msgs::Point q;
+  q.x = p.x();
+  q.y = p.y();
+  q.z = p.z();
+  return q;
+}
+
 visualization_msgs::MarkerArray plannerMarkers(const ExplorationManager& mgr,
                                                const RobotPose& robot,
                                                const std_msgs::Header& header,
@@ -90,7 +90,7 @@ visualization_msgs::MarkerArray plannerMarkers(const ExplorationManager& mgr,
           vp_colour[i] =
               plan->groups[g].isolated() ? rgba(0.5f, 0.5f, 0.5f) : palette(static_cast<int>(g));
   for (size_t i = 0; i < vps.size(); ++i) {
-    vp.points.push_back(point(vps[i].position_world_m));
+    vp.points.push_back(toPointMsg(vps[i].position_world_m));
     vp.colors.push_back(vp_colour[i]);
   }
   if (!vp.points.empty()) out.markers.push_back(vp);
@@ -100,15 +100,15 @@ visualization_msgs::MarkerArray plannerMarkers(const ExplorationManager& mgr,
     Marker gp = base(header, "guidepoints", Marker::SPHERE_LIST, 0.8);
     for (size_t j = 0; j < a->guidepoints_world_m.size(); ++j) {
       const Eigen::Vector2d& g = a->guidepoints_world_m[j];
-      gp.points.push_back(point({g.x(), g.y(), opt.guidepoint_z_m}));
+      gp.points.push_back(toPointMsg({g.x(), g.y(), opt.guidepoint_z_m}));
       gp.colors.push_back(stateColour(a->states[j]));
     }
     if (!gp.points.empty()) out.markers.push_back(gp);
     Marker seq = base(header, "guidepoint_sequence", Marker::LINE_STRIP, 0.15);
     seq.color = rgba(1.0f, 0.2f, 0.8f);
-    seq.points.push_back(point(robot.position_world_m));
+    seq.points.push_back(toPointMsg(robot.position_world_m));
     for (const Eigen::Vector2d& g : mgr.activeGuidepointSequence())
-      seq.points.push_back(point({g.x(), g.y(), opt.guidepoint_z_m}));
+      seq.points.push_back(toPointMsg({g.x(), g.y(), opt.guidepoint_z_m}));
     if (seq.points.size() >= 2) out.markers.push_back(seq);
   }
 
@@ -116,14 +116,14 @@ visualization_msgs::MarkerArray plannerMarkers(const ExplorationManager& mgr,
   const ExplorationTarget& t = mgr.target();
   Marker tour = base(header, "tour", Marker::LINE_STRIP, 0.1);
   tour.color = rgba(0.1f, 0.9f, 0.9f);
-  tour.points.push_back(point(robot.position_world_m));
-  for (const Eigen::Vector3d& p : t.tour_world_m) tour.points.push_back(point(p));
+  tour.points.push_back(toPointMsg(robot.position_world_m));
+  for (const Eigen::Vector3d& p : t.tour_world_m) tour.points.push_back(toPointMsg(p));
   if (tour.points.size() >= 2) out.markers.push_back(tour);
   if (t.has_goal) {
     Marker goal = base(header, "goal", Marker::ARROW, 1.0);
     goal.scale.y = goal.scale.z = 0.25;
     goal.color = rgba(1.0f, 0.9f, 0.0f);
-    goal.pose.position = point(t.goal_world_m);
+    goal.pose.position = toPointMsg(t.goal_world_m);
     goal.pose.orientation.z = std::sin(0.5 * t.goal_yaw_rad);
     goal.pose.orientation.w = std::cos(0.5 * t.goal_yaw_rad);
     out.markers.push_back(goal);
@@ -143,7 +143,7 @@ visualization_msgs::MarkerArray plannerMarkers(const ExplorationManager& mgr,
     const std_msgs::ColorRGBA col = palette(id);
     for (const VoxelKey& cell : c.cells)
       if (k++ % stride == 0) {
-        fr.points.push_back(point(voxelCenter(cell, res)));
+        fr.points.push_back(toPointMsg(voxelCenter(cell, res)));
         fr.colors.push_back(col);
       }
   }

@@ -232,17 +232,13 @@ void PriorGuidedPlannerNode::onTimer(const ros::TimerEvent&) {
     if (t.has_goal) {
       geometry_msgs::PoseStamped goal;
       goal.header = header;
-      goal.pose.position.x = t.goal_world_m.x();
-      goal.pose.position.y = t.goal_world_m.y();
-      goal.pose.position.z = t.goal_world_m.z();
+      goal.pose.position = toPointMsg(t.goal_world_m);
       goal.pose.orientation.z = std::sin(0.5 * t.goal_yaw_rad);
       goal.pose.orientation.w = std::cos(0.5 * t.goal_yaw_rad);
       target_pub_.publish(goal);
       geometry_msgs::PointStamped look;
       look.header = header;
-      look.point.x = t.look_at_world_m.x();
-      look.point.y = t.look_at_world_m.y();
-      look.point.z = t.look_at_world_m.z();
+      look.point = toPointMsg(t.look_at_world_m);
       look_at_pub_.publish(look);
     }
     nav_msgs::Path tour;
@@ -250,14 +246,10 @@ void PriorGuidedPlannerNode::onTimer(const ros::TimerEvent&) {
     geometry_msgs::PoseStamped ps;
     ps.header = header;
     ps.pose.orientation.w = 1.0;
-    ps.pose.position.x = robot_->position_world_m.x();
-    ps.pose.position.y = robot_->position_world_m.y();
-    ps.pose.position.z = robot_->position_world_m.z();
+    ps.pose.position = toPointMsg(robot_->position_world_m);
     tour.poses.push_back(ps);
     for (const Eigen::Vector3d& p : t.tour_world_m) {
-      ps.pose.position.x = p.x();
-      ps.pose.position.y = p.y();
-      ps.pose.position.z = p.z();
+      ps.pose.position = toPointMsg(p);
       tour.poses.push_back(ps);
     }
     tour_pub_.publish(tour);
@@ -312,10 +304,8 @@ void PriorGuidedPlannerNode::publishGuidepoints(const ros::Time& now) {
   const HypothesisAttachment* a = manager_->activeAttachment();
   for (int i = 0; i < prior->size(); ++i) {
     g.ids.push_back(prior->ids.empty() ? static_cast<uint32_t>(i) : prior->ids[i]);
-    geometry_msgs::Point p;
-    p.x = prior->positions_sketch_m[i].x();
-    p.y = prior->positions_sketch_m[i].y();
-    g.positions.push_back(p);
+    const Eigen::Vector2d& q = prior->positions_sketch_m[i];
+    g.positions.push_back(toPointMsg(Eigen::Vector3d(q.x(), q.y(), 0.0)));
     uint8_t state = Guidepoints::UNEXPLORED;
     if (a && i < static_cast<int>(a->states.size())) {
       if (a->states[i] == GuidepointState::kExploring) state = Guidepoints::EXPLORING;

@@ -5,6 +5,7 @@
 // guidepoint sequence, the local tour, the goal, and the frontier cells coloured by cluster.
 #pragma once
 
+#include <geometry_msgs/Point.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <cstddef>
@@ -19,6 +20,8 @@ struct PlannerMarkerOptions {
   /// Height [m] at which the 2D guidepoints and the sequence are drawn.
   double guidepoint_z_m = 1.0;
 };
+
+geometry_msgs::Point toPointMsg(const Eigen::Vector3d& p);
 
 /// Starts with a DELETEALL so that stale markers disappear.
 visualization_msgs::MarkerArray plannerMarkers(const ExplorationManager& manager,
