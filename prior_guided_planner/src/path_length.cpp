@@ -528,8 +528,8 @@ void PathLengthCache::store(uint64_t id_a, const Eigen::Vector3d& a, uint64_t id
 
 std::optional<double> PathLengthCache::length(uint64_t id_a, const Eigen::Vector3d& a,
                                               uint64_t id_b, const Eigen::Vector3d& b) {
-  nodes_[id_a] = a;
-  nodes_[id_b] = b;
+  nodes_[id_a] = {a, scans_};
+  nodes_[id_b] = {b, scans_};
   if (const Entry* e = valid(id_a, a, id_b, b)) {
     ++stats_.hits;
     return e->length_m;
@@ -537,10 +537,11 @@ std::optional<double> PathLengthCache::length(uint64_t id_a, const Eigen::Vector
   ++stats_.misses;
   std::vector<uint64_t> ids;
   std::vector<Eigen::Vector3d> targets;
-  for (const auto& [id_c, c] : nodes_)
-    if (id_c != id_a && id_c != id_b && !valid(id_a, a, id_c, c)) {
+  for (const auto& [id_c, n] : nodes_)
+    if (id_c != id_a && id_c != id_b && n.last_asked_scan + kBatchScans >= scans_ &&
+        !valid(id_a, a, id_c, n.position_world_m)) {
       ids.push_back(id_c);
-      targets.push_back(c);
+      targets.push_back(n.position_world_m);
     }
   if (ids.size() + 1 < kMinBatch) {
     PathSearchResult r = search_.search(a, b);
@@ -581,6 +582,7 @@ bool PathLengthCache::pathNear(const Entry& e, const std::vector<VoxelKey>& bloc
 }
 
 void PathLengthCache::sync() {
+  ++scans_;
   search_.syncWithLastScan();
   const uint64_t rev = occ_.revision();
   if (rev == synced_revision_) return;

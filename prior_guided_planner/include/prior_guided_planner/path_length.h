@@ -152,10 +152,13 @@ class PathLengthCache {
 
   /// Misses from one node searched together (one Dijkstra) from this many on.
   static constexpr size_t kMinBatch = 4;
+  /// Batches include the nodes asked within this many sync() calls (those of the current and
+  /// the last planning cycles), not nodes the planner stopped asking about.
+  static constexpr uint64_t kBatchScans = 4;
 
   /// L(a, b) for nodes with stable ids; searched once, then served from the cache. On a miss,
-  /// when at least kMinBatch nodes seen before (latest positions) also miss their entry with
-  /// `a`, one Dijkstra from `a` fills all of them (PathSearch::searchFrom).
+  /// when at least kMinBatch nodes asked recently (latest positions) also miss their entry
+  /// with `a`, one Dijkstra from `a` fills all of them (PathSearch::searchFrom).
   std::optional<double> length(uint64_t id_a, const Eigen::Vector3d& a_world_m, uint64_t id_b,
                                const Eigen::Vector3d& b_world_m);
   /// Invalidates what the occupancy's latest scan(s) may have changed.
@@ -194,7 +197,12 @@ class PathLengthCache {
 
   PathSearch search_;
   std::unordered_map<std::pair<uint64_t, uint64_t>, Entry, PairHash> entries_;
-  std::unordered_map<uint64_t, Eigen::Vector3d> nodes_;  ///< latest position per node id
+  struct Node {
+    Eigen::Vector3d position_world_m;
+    uint64_t last_asked_scan = 0;  ///< value of scans_ when it was last asked
+  };
+  std::unordered_map<uint64_t, Node> nodes_;  ///< per node id, as last asked
+  uint64_t scans_ = 0;                        ///< sync() calls
   uint64_t synced_revision_ = 0;
   PathCacheStats stats_;
 };
