@@ -16,7 +16,10 @@
 #include <mutex>
 #include <thread>
 
+#include <iterator>
+#include <map>
 #include "efs_common_ros/cloud_conversions.h"
+
 #include "ros_test_utils.h"
 
 namespace {
@@ -50,6 +53,7 @@ class LioBridgeTest : public ::testing::Test {
       o.pose.pose.position.z = 1.0;
       o.pose.pose.orientation.w = 1.0;
       odom_pub_.publish(o);
+      published_x_[stamp.toNSec()] = x_;
       if (i++ % 5 == 0) {
         std::vector<Eigen::Vector3f> wall;
         for (int k = 0; k < 200; ++k)
@@ -86,6 +90,7 @@ class LioBridgeTest : public ::testing::Test {
   ros::Publisher odom_pub_, cloud_pub_;
   ros::Subscriber odom_sub_, frame_sub_, status_sub_;
   double x_ = 0.0;
+  std::map<uint64_t, double> published_x_;  ///< odometry x by stamp [ns]
   nav_msgs::Odometry last_odom_;
   explore_from_sketch::RegistrationFrame last_frame_;
   explore_from_sketch::LioStatus last_status_;
@@ -101,7 +106,11 @@ TEST_F(LioBridgeTest, OdometryGainsVelocityAndFramesCarryTheMap) {
   EXPECT_NEAR(last_odom_.twist.twist.linear.y, 0.0, 0.1);
   EXPECT_GE(frame_count_, 4);  // 2 Hz for 3 s
   EXPECT_GT(last_frame_.local_map.width, 50u);
-  EXPECT_NEAR(last_frame_.robot_position.x, x_, 0.3);
+  // The frame carries the robot position of its own time (frames are 0.5 s apart; the robot
+  // moves on): the odometry published at or just before the frame's stamp.
+  const auto at = published_x_.upper_bound(last_frame_.header.stamp.toNSec());
+  ASSERT_NE(at, published_x_.begin()) << "frame stamped before any odometry";
+  EXPECT_NEAR(last_frame_.robot_position.x, std::prev(at)->second, 0.05);
   EXPECT_EQ(last_status_.health, explore_from_sketch::LioStatus::HEALTHY);
 }
 

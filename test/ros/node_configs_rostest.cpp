@@ -9,6 +9,8 @@
 #include <cstdlib>
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "lio_bridge_ros/lio_bridge.h"
 #include "marsim_worlds_ros/marsim_node.h"
@@ -21,7 +23,9 @@
 namespace {
 
 struct NodeConfig {
-  std::string yaml;                                  ///< file under config/
+  std::string yaml;  ///< file under config/
+  /// Parameters a launch file always sets (the shipped YAML leaves them empty on purpose).
+  std::vector<std::pair<std::string, std::string>> launch_params;
   std::string absurd_key;                            ///< a numeric key ...
   double absurd_value;                               ///< ... set to a value its range refuses
   std::function<void(const ros::NodeHandle&)> load;  ///< the node's loader (throws on refusal)
@@ -29,29 +33,52 @@ struct NodeConfig {
 
 const std::vector<NodeConfig>& nodeConfigs() {
   static const std::vector<NodeConfig> configs{
-      {"lio_bridge.yaml", "voxel_size_m", -0.3,
+      {"lio_bridge.yaml",
+       {},
+       "voxel_size_m",
+       -0.3,
        [](const ros::NodeHandle& nh) { efs::lio::loadLioBridgeConfig(nh); }},
-      {"marsim_node.yaml", "physics_rate_hz", -500.0,
+      {"marsim_node.yaml",
+       {},
+       "physics_rate_hz",
+       -500.0,
        [](const ros::NodeHandle& nh) { efs::sim::loadMarsimNodeConfig(nh); }},
-      {"prior_map_server.yaml", "mapping_range_m", -10.0,
+      {"prior_map_server.yaml",
+       {{"bundle_path", "/tmp/any.prior"}},
+       "mapping_range_m",
+       -10.0,
        [](const ros::NodeHandle& nh) { efs::prior_map::loadPriorMapServerConfig(nh); }},
-      {"sketch_registration.yaml", "eta", 7.0,
+      {"sketch_registration.yaml",
+       {},
+       "eta",
+       7.0,
        [](const ros::NodeHandle& nh) { efs::registration::loadSketchRegistrationNodeConfig(nh); }},
-      {"prior_guided_planner.yaml", "predicted_free_spacing_m", -1.0,
+      {"prior_guided_planner.yaml",
+       {},
+       "predicted_free_spacing_m",
+       -1.0,
        [](const ros::NodeHandle& nh) { efs::planner::loadPriorGuidedPlannerConfig(nh); }},
-      {"minco_traj.yaml", "command_rate_hz", -100.0,
+      {"minco_traj.yaml",
+       {},
+       "command_rate_hz",
+       -100.0,
        [](const ros::NodeHandle& nh) { efs::traj::loadMincoTrajNodeConfig(nh); }},
-      {"se3_controller.yaml", "control_rate_hz", -100.0,
+      {"se3_controller.yaml",
+       {},
+       "control_rate_hz",
+       -100.0,
        [](const ros::NodeHandle& nh) { efs::control::loadSe3ControllerNodeConfig(nh); }},
   };
   return configs;
 }
 
-/// Loads config/<yaml> into namespace `ns` with rosparam, as roslaunch's <rosparam load> does.
-void loadYaml(const std::string& yaml, const std::string& ns) {
-  const std::string path = std::string(EFS_CONFIG_DIR) + "/" + yaml;
+/// Loads config/<yaml> into namespace `ns` with rosparam, as roslaunch's <rosparam load> does,
+/// plus the parameters its launch file sets.
+void loadYaml(const NodeConfig& c, const std::string& ns) {
+  const std::string path = std::string(EFS_CONFIG_DIR) + "/" + c.yaml;
   const std::string cmd = "rosparam load " + path + " " + ns;
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  for (const auto& [key, value] : c.launch_params) ros::param::set(ns + "/" + key, value);
 }
 
 std::string refusal(const NodeConfig& c, const ros::NodeHandle& nh) {
@@ -66,7 +93,7 @@ std::string refusal(const NodeConfig& c, const ros::NodeHandle& nh) {
 TEST(NodeConfigs, ShippedYamlsLoadIntoEveryConfig) {
   for (const auto& c : nodeConfigs()) {
     const std::string ns = "/shipped/" + c.yaml.substr(0, c.yaml.find('.'));
-    loadYaml(c.yaml, ns);
+    loadYaml(c, ns);
     EXPECT_EQ(refusal(c, ros::NodeHandle(ns)), "") << c.yaml;
   }
 }
@@ -74,7 +101,7 @@ TEST(NodeConfigs, ShippedYamlsLoadIntoEveryConfig) {
 TEST(NodeConfigs, UnknownKeyIsRefusedByName) {
   for (const auto& c : nodeConfigs()) {
     const std::string ns = "/unknown/" + c.yaml.substr(0, c.yaml.find('.'));
-    loadYaml(c.yaml, ns);
+    loadYaml(c, ns);
     ros::NodeHandle nh(ns);
     nh.setParam("no_such_key_xyz", 1.0);
     const std::string why = refusal(c, nh);
@@ -85,7 +112,7 @@ TEST(NodeConfigs, UnknownKeyIsRefusedByName) {
 TEST(NodeConfigs, OutOfRangeValueIsRefusedByName) {
   for (const auto& c : nodeConfigs()) {
     const std::string ns = "/absurd/" + c.yaml.substr(0, c.yaml.find('.'));
-    loadYaml(c.yaml, ns);
+    loadYaml(c, ns);
     ros::NodeHandle nh(ns);
     ASSERT_TRUE(nh.hasParam(c.absurd_key)) << c.yaml << " has no key " << c.absurd_key;
     nh.setParam(c.absurd_key, c.absurd_value);

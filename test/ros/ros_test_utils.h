@@ -67,8 +67,10 @@ struct NodeRun {
 
 /// Runs one of this package's node executables to completion (it must stop by itself within
 /// `timeout_s`) against the current master, with extra command-line arguments (e.g. private
-/// parameters as `_key:=value`). The node executables sit beside this test executable.
+/// parameters as `_key:=value`). The node executables sit beside this test executable. Private
+/// parameters left on the server by an earlier run are deleted first, so runs are independent.
 inline NodeRun runNode(const std::string& node, const std::string& args, int timeout_s) {
+  ros::param::del("/" + node + "_under_test");
   std::array<char, 4096> self{};
   const ssize_t n = readlink("/proc/self/exe", self.data(), self.size() - 1);
   std::string dir(self.data(), n > 0 ? static_cast<size_t>(n) : 0);
