@@ -28,6 +28,11 @@
 //    farther away are not noticed until the entry is dropped for another reason), and every
 //    "unreachable" entry is dropped when the scan added free space (cheap to answer again: a
 //    component label lookup). If several scans went by unseen, everything is dropped.
+//    A miss from node a is answered together with the misses of a and the other nodes asked
+//    within the last kBatchScans scans by one searchFrom(a) (from kMinBatch of them on), so a
+//    new viewpoint costs one Dijkstra, not one A* per other viewpoint.
+//  - Segment safety uses OccupancyMap::segmentSafe's samples, every 4th first (a segment
+//    through a wall fails sooner; the answer is the same).
 //  - Neither class is thread-safe (both memoise); the planner calls L from one thread.
 #pragma once
 
