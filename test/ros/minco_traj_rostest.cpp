@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -35,11 +36,16 @@ class MincoTrajNodeTest : public ::testing::Test {
     cmd_sub_ = nh_.subscribe("position_cmd", 200, &MincoTrajNodeTest::onCmd, this);
     traj_sub_ = nh_.subscribe("trajectory", 20, &MincoTrajNodeTest::onTraj, this);
     marker_sub_ = nh_.subscribe("traj_markers", 5, &MincoTrajNodeTest::onMarkers, this);
+    // rostest starts no rosout node, so /rosout_agg (what LogCollector reads) stays silent: the
+    // collector reads the node's /rosout directly, through log_nh_. Its log lines only arrive once
+    // /rosout of the node and of this test itself is connected.
+    rosout_sub_ = nh_.subscribe("/rosout", 100, &MincoTrajNodeTest::onRosout, this);
     const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(20.0);
     while ((odom_pub_.getNumSubscribers() == 0 || target_pub_.getNumSubscribers() == 0 ||
-            scan_pub_.getNumSubscribers() == 0) &&
+            scan_pub_.getNumSubscribers() == 0 || rosout_sub_.getNumPublishers() < 2) &&
            ros::WallTime::now() < end)
       ros::WallDuration(0.05).sleep();
+    ASSERT_GE(rosout_sub_.getNumPublishers(), 2u) << "/rosout of the node not connected";
   }
 
   void onCmd(const PositionCommand::ConstPtr& m) {
@@ -77,9 +83,12 @@ class MincoTrajNodeTest : public ::testing::Test {
     target_pub_.publish(t);
   }
 
+  void onRosout(const rosgraph_msgs::Log::ConstPtr&) {}  // only holds the /rosout connection
+
   ros::NodeHandle nh_;
+  ros::NodeHandle log_nh_{"", ros::M_string{{"/rosout_agg", "/rosout"}}};
   ros::Publisher odom_pub_, scan_pub_, target_pub_;
-  ros::Subscriber cmd_sub_, traj_sub_, marker_sub_;
+  ros::Subscriber cmd_sub_, traj_sub_, marker_sub_, rosout_sub_;
   std::vector<PositionCommand> cmds_;
   std::map<uint32_t, PolynomialTrajectory> trajs_;
   visualization_msgs::MarkerArray markers_;
@@ -147,7 +156,7 @@ TEST_F(MincoTrajNodeTest, FliesToTargetsAroundAWallAndRefusesNan) {
   EXPECT_EQ(by_ns["corridor"]->points.size() % 2, 0u);
 
   // NaN target: refused, the node holds and keeps commanding.
-  efs::rostest::LogCollector logs(nh_);
+  efs::rostest::LogCollector logs(log_nh_);
   sendTarget(std::numeric_limits<double>::quiet_NaN(), 0.0, 1.0);
   EXPECT_TRUE(logs.waitFor("/minco_traj", "target rejected", 5.0));
   const size_t before = cmds_.size();

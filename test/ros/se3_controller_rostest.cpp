@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -35,12 +36,17 @@ class Se3ControllerNodeTest : public ::testing::Test {
     cmd_px4_pub_ = nh_.advertise<PositionCommand>("px4/position_cmd", 10);
     so3_sub_ = nh_.subscribe("so3_cmd", 100, &Se3ControllerNodeTest::onSo3, this);
     att_sub_ = nh_.subscribe("px4/attitude_target", 100, &Se3ControllerNodeTest::onAtt, this);
+    // rostest starts no rosout node, so /rosout_agg (what LogCollector reads) stays silent: the
+    // collectors read the nodes' /rosout directly, through log_nh_. Their log lines only arrive
+    // once /rosout of both nodes and of this test itself is connected.
+    rosout_sub_ = nh_.subscribe("/rosout", 100, &Se3ControllerNodeTest::onRosout, this);
     const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(20.0);
     while ((odom_pub_.getNumSubscribers() == 0 || cmd_pub_.getNumSubscribers() == 0 ||
             odom_px4_pub_.getNumSubscribers() == 0 || so3_sub_.getNumPublishers() == 0 ||
-            att_sub_.getNumPublishers() == 0) &&
+            att_sub_.getNumPublishers() == 0 || rosout_sub_.getNumPublishers() < 3) &&
            ros::WallTime::now() < end)
       ros::WallDuration(0.05).sleep();
+    ASSERT_GE(rosout_sub_.getNumPublishers(), 3u) << "/rosout of the nodes not connected";
   }
 
   void onSo3(const SO3Command::ConstPtr& m) { so3_.push_back(*m); }
@@ -76,9 +82,12 @@ class Se3ControllerNodeTest : public ::testing::Test {
     return std::acos(std::min(1.0, (e.normalized() * Eigen::Vector3d::UnitZ()).z()));
   }
 
+  void onRosout(const rosgraph_msgs::Log::ConstPtr&) {}  // only holds the /rosout connection
+
   ros::NodeHandle nh_;
+  ros::NodeHandle log_nh_{"", ros::M_string{{"/rosout_agg", "/rosout"}}};
   ros::Publisher odom_pub_, cmd_pub_, odom_px4_pub_, cmd_px4_pub_;
-  ros::Subscriber so3_sub_, att_sub_;
+  ros::Subscriber so3_sub_, att_sub_, rosout_sub_;
   std::vector<SO3Command> so3_;
   std::vector<AttitudeTarget> att_;
 };
@@ -99,7 +108,7 @@ TEST_F(Se3ControllerNodeTest, HoverStaleOdometryAndNanCommand) {
   EXPECT_GT(so3_.back().force.z, kMassKg * kG + 1.0);
 
   // Odometry stops: the watchdog keeps commanding, level, below hover thrust (descent).
-  efs::rostest::LogCollector logs(nh_);
+  efs::rostest::LogCollector logs(log_nh_);
   so3_.clear();
   run(0.8, false, 1.0);
   ASSERT_GT(so3_.size(), 30u) << "no commands while odometry is missing";

@@ -155,6 +155,18 @@ void Se3ControllerNode::onWatchdog(const ros::TimerEvent&) {
   step(now);  // odometry is late: the controller sees it stale and acts on it
 }
 
+void Se3ControllerNode::warnThrottledPerKind(const ros::Time& now, const ControlOutput& out) {
+  // One throttle per kind (mode, odometry rejected or not): a stale-odometry descent warned about
+  // just before must not hide the hold that follows it.
+  const auto kind = std::make_pair(out.mode, out.odometry_rejected);
+  const auto it = last_warning_.find(kind);
+  if (it != last_warning_.end() && (now - it->second).toSec() >= 0.0 &&
+      (now - it->second).toSec() < kWarningPeriod_s)
+    return;
+  last_warning_[kind] = now;
+  ROS_WARN("se3_controller: %s: %s", toString(out.mode), out.reason.c_str());
+}
+
 void Se3ControllerNode::step(const ros::Time& now) {
   last_step_ = now;
   const ControlOutput out = controller_.update(odom_, ref_, now.toSec());
@@ -162,7 +174,7 @@ void Se3ControllerNode::step(const ros::Time& now) {
     if (out.mode == ControlMode::kTracking && !out.odometry_rejected)
       ROS_INFO("se3_controller: tracking");
     else
-      ROS_WARN_THROTTLE(0.5, "se3_controller: %s: %s", toString(out.mode), out.reason.c_str());
+      warnThrottledPerKind(now, out);
     last_mode_ = out.mode;
   }
   std_msgs::Header h;

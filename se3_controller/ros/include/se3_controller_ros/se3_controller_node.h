@@ -12,8 +12,10 @@
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 
+#include <map>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "se3_controller/se3_controller.h"
 
@@ -40,6 +42,11 @@ class Se3ControllerNode {
   void onImu(const sensor_msgs::Imu::ConstPtr& msg);
   void onWatchdog(const ros::TimerEvent&);
   void step(const ros::Time& now);
+  /// Warns about a degraded mode at most every kWarningPeriod_s per kind, so that one kind never
+  /// hides another.
+  void warnThrottledPerKind(const ros::Time& now, const ControlOutput& out);
+
+  static constexpr double kWarningPeriod_s = 0.5;
 
   Se3ControllerNodeConfig config_;
   Se3Controller controller_;
@@ -48,6 +55,7 @@ class Se3ControllerNode {
   bool have_ref_ = false;
   std::optional<ros::Time> last_step_, last_imu_;
   ControlMode last_mode_ = ControlMode::kNoOdometry;
+  std::map<std::pair<ControlMode, bool>, ros::Time> last_warning_;  ///< by (mode, odom rejected)
 
   ros::Subscriber cmd_sub_, odom_sub_, imu_sub_;
   ros::Publisher so3_pub_, attitude_pub_;
