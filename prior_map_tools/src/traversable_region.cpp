@@ -48,6 +48,73 @@ cv::Mat1b closeWalls(const cv::Mat1b& walls, const cv::Mat1f& dist_to_wall, int 
 
 }  // namespace
 
+namespace {
+
+/// Clearance from walls and outside, then the components large enough to keep. If none is, and
+/// `fallback_footprint` is given, the same on that footprint.
+TraversableRegion regionWithClearance(const std::string& name, double m_per_px,
+                                      const TraversableConfig& config, TraversableRegion out,
+                                      const cv::Mat1b& walls, const cv::Mat1b& interior_free,
+                                      const cv::Mat1b& fallback_footprint) {
+  if (cv::countNonZero(interior_free) == 0) {
+    throw PriorMapError(name + ": no traversable region: the map has no free cells");
+  }
+
+  // Clearance: a pixel is traversable if the robot's disc around it touches no wall or outside.
+  cv::Mat1f clearance_px;
+  cv::distanceTransform(interior_free, clearance_px, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  const float radius_px = static_cast<float>(config.robot_radius_m / m_per_px);
+  cv::Mat1b traversable = clearance_px > radius_px;
+
+  cv::Mat1i labels;
+  cv::Mat stats, centroids;
+  const int n = cv::connectedComponentsWithStats(traversable, labels, stats, centroids, 8, CV_32S);
+  const double px_area = m_per_px * m_per_px;
+  std::vector<std::pair<double, int>> kept;  // (area, old label)
+  for (int l = 1; l < n; ++l) {
+    const double a = stats.at<int>(l, cv::CC_STAT_AREA) * px_area;
+    if (a >= config.min_region_area_m2) kept.emplace_back(a, l);
+  }
+  if (kept.empty() && !fallback_footprint.empty() &&
+      cv::countNonZero(fallback_footprint & ~out.footprint) > 0) {
+    out.footprint = fallback_footprint;
+    out.outer_gap_closing_px = 0;
+    out.outer_outline_open = true;
+    return regionWithClearance(name, m_per_px, config, std::move(out), walls,
+                               fallback_footprint & ~walls, cv::Mat1b());
+  }
+  if (kept.empty()) {
+    std::ostringstream os;
+    os << name << ": no traversable region large enough for the robot: "
+       << "robot_radius_m = " << config.robot_radius_m << " at " << m_per_px
+       << " m/px leaves no free component of at least " << config.min_region_area_m2 << " m^2";
+    throw PriorMapError(os.str());
+  }
+  std::sort(kept.begin(), kept.end(),
+            [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<int> relabel(n, 0);
+  for (size_t i = 0; i < kept.size(); ++i) {
+    relabel[kept[i].second] = static_cast<int>(i) + 1;
+    out.component_area_m2.push_back(kept[i].first);
+  }
+  out.components = cv::Mat1i::zeros(labels.size());
+  out.mask = cv::Mat1b::zeros(labels.size());
+  for (int r = 0; r < labels.rows; ++r) {
+    const int* src = labels.ptr<int>(r);
+    int* dst = out.components.ptr<int>(r);
+    uint8_t* m = out.mask.ptr<uint8_t>(r);
+    for (int c = 0; c < labels.cols; ++c) {
+      const int l = relabel[src[c]];
+      dst[c] = l;
+      m[c] = l > 0 ? 255 : 0;
+    }
+  }
+  for (double a : out.component_area_m2) out.area_m2 += a;
+  return out;
+}
+
+}  // namespace
+
 TraversableRegion extractTraversable(const LoadedSketch& sketch, const TraversableConfig& config) {
   config.validate();
   const std::string& name = sketch.source_path;
@@ -60,6 +127,7 @@ TraversableRegion extractTraversable(const LoadedSketch& sketch, const Traversab
 
   TraversableRegion out;
   cv::Mat1b interior_free;
+  cv::Mat1b fallback_footprint;  // drawings: the ink's convex hull, if the outline leaves nothing
   if (sketch.kind == SketchKind::kOccupancyGrid) {
     interior_free = ~(walls | sketch.unknown_mask);
     out.footprint = interior_free.clone();
@@ -94,66 +162,38 @@ TraversableRegion extractTraversable(const LoadedSketch& sketch, const Traversab
       area[i] = cv::countNonZero(footprints[i] & ~walls);
     }
     const double best = *std::max_element(area.begin(), area.end());
-    if (best <= 0.0) {
-      throw PriorMapError(name +
-                          ": no traversable region: no area enclosed by walls (outer wall gaps "
-                          "wider than max_outer_gap_m = " +
-                          std::to_string(config.max_outer_gap_m) + " m at the scale guess?)");
+    // A partial sketch (walls of whole regions left out) has an open outline: nothing, or only a
+    // few closets, is enclosed. What the strokes span is then the best guess of the inside: the
+    // convex hull of the ink. It is the fallback when the enclosed area leaves no region.
+    std::vector<cv::Point> ink;
+    cv::findNonZero(walls, ink);
+    cv::Mat1b hull_footprint = cv::Mat1b::zeros(walls.size());
+    if (ink.size() >= 3) {
+      std::vector<cv::Point> hull;
+      cv::convexHull(ink, hull);
+      cv::fillConvexPoly(hull_footprint, hull, cv::Scalar(255));
     }
-    size_t chosen = 0;
-    while (area[chosen] < 0.5 * best) ++chosen;
-    while (chosen + 1 < radii.size() && area[chosen + 1] > 1.25 * area[chosen]) ++chosen;
-    out.outer_gap_closing_px = radii[chosen];
-    out.footprint = footprints[chosen];
+    if (best <= 0.0) {
+      if (cv::countNonZero(hull_footprint & ~walls) == 0) {
+        throw PriorMapError(name +
+                            ": no traversable region: no area enclosed by walls (outer wall gaps "
+                            "wider than max_outer_gap_m = " +
+                            std::to_string(config.max_outer_gap_m) + " m at the scale guess?)");
+      }
+      out.footprint = hull_footprint;
+      out.outer_outline_open = true;
+    } else {
+      size_t chosen = 0;
+      while (area[chosen] < 0.5 * best) ++chosen;
+      while (chosen + 1 < radii.size() && area[chosen + 1] > 1.25 * area[chosen]) ++chosen;
+      out.outer_gap_closing_px = radii[chosen];
+      out.footprint = footprints[chosen];
+      fallback_footprint = hull_footprint;
+    }
     interior_free = out.footprint & ~walls;
   }
-  if (cv::countNonZero(interior_free) == 0) {
-    throw PriorMapError(name + ": no traversable region: the map has no free cells");
-  }
-
-  // Clearance: a pixel is traversable if the robot's disc around it touches no wall or outside.
-  cv::Mat1f clearance_px;
-  cv::distanceTransform(interior_free, clearance_px, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  const float radius_px = static_cast<float>(config.robot_radius_m / m_per_px);
-  cv::Mat1b traversable = clearance_px > radius_px;
-
-  cv::Mat1i labels;
-  cv::Mat stats, centroids;
-  const int n = cv::connectedComponentsWithStats(traversable, labels, stats, centroids, 8, CV_32S);
-  const double px_area = m_per_px * m_per_px;
-  std::vector<std::pair<double, int>> kept;  // (area, old label)
-  for (int l = 1; l < n; ++l) {
-    const double a = stats.at<int>(l, cv::CC_STAT_AREA) * px_area;
-    if (a >= config.min_region_area_m2) kept.emplace_back(a, l);
-  }
-  if (kept.empty()) {
-    std::ostringstream os;
-    os << name << ": no traversable region large enough for the robot: "
-       << "robot_radius_m = " << config.robot_radius_m << " at " << m_per_px
-       << " m/px leaves no free component of at least " << config.min_region_area_m2 << " m^2";
-    throw PriorMapError(os.str());
-  }
-  std::sort(kept.begin(), kept.end(),
-            [](const auto& a, const auto& b) { return a.first > b.first; });
-  std::vector<int> relabel(n, 0);
-  for (size_t i = 0; i < kept.size(); ++i) {
-    relabel[kept[i].second] = static_cast<int>(i) + 1;
-    out.component_area_m2.push_back(kept[i].first);
-  }
-  out.components = cv::Mat1i::zeros(labels.size());
-  out.mask = cv::Mat1b::zeros(labels.size());
-  for (int r = 0; r < labels.rows; ++r) {
-    const int* src = labels.ptr<int>(r);
-    int* dst = out.components.ptr<int>(r);
-    uint8_t* m = out.mask.ptr<uint8_t>(r);
-    for (int c = 0; c < labels.cols; ++c) {
-      const int l = relabel[src[c]];
-      dst[c] = l;
-      m[c] = l > 0 ? 255 : 0;
-    }
-  }
-  for (double a : out.component_area_m2) out.area_m2 += a;
-  return out;
+  return regionWithClearance(name, m_per_px, config, std::move(out), walls, interior_free,
+                             fallback_footprint);
 }
 
 }  // namespace efs::prior_map

@@ -74,6 +74,28 @@ TEST(TraversableRegion, AllBlackAllWhiteAndTooNarrowAreClearErrors) {
   expectThrowsWith(sketchFromImage(lines, lc, "lines.png"), {}, "no traversable region");
 }
 
+TEST(TraversableRegion, PartialSketchWithAnOpenOutlineUsesTheInksHull) {
+  // Three sides of a 16 m x 10 m hall and a room in one corner: the fourth wall was left out of
+  // the drawing (10 m wide: far beyond max_outer_gap_m), so the outline encloses only the room.
+  cv::Mat1b partial(140, 200, uint8_t(255));
+  cv::line(partial, {20, 20}, {180, 20}, cv::Scalar(0), 2);
+  cv::line(partial, {20, 20}, {20, 120}, cv::Scalar(0), 2);
+  cv::line(partial, {180, 20}, {180, 120}, cv::Scalar(0), 2);
+  SketchLoadConfig lc;
+  const TraversableRegion open =
+      extractTraversable(sketchFromImage(partial, lc, "partial.png"), {});
+  EXPECT_TRUE(open.outer_outline_open);
+  EXPECT_GT(open.area_m2, 0.8 * 16.0 * 10.0);  // the hall between the three walls
+  EXPECT_EQ(open.mask(70, 100), 255);
+  EXPECT_EQ(open.mask(70, 10), 0) << "outside the drawn walls";
+  // A closed outline is unaffected.
+  cv::Mat1b closed = partial.clone();
+  cv::line(closed, {20, 120}, {180, 120}, cv::Scalar(0), 2);
+  const TraversableRegion shut = extractTraversable(sketchFromImage(closed, lc, "closed.png"), {});
+  EXPECT_FALSE(shut.outer_outline_open);
+  EXPECT_EQ(shut.mask(70, 100), 255);
+}
+
 TEST(TraversableRegion, OccupancyGridUnknownIsNotTraversable) {
   cv::Mat1b grid(40, 60, uint8_t(205));
   grid(cv::Rect(10, 10, 40, 20)).setTo(254);

@@ -34,6 +34,9 @@ struct TraversableRegion {
   cv::Mat1i components;  ///< component label per pixel, 0 = none, 1..n
   std::vector<double> component_area_m2;  ///< index i holds label i + 1, largest first
   int outer_gap_closing_px = 0;           ///< radius used to seal the outer wall (drawings)
+  /// The drawing's outline encloses no usable region (a partial sketch): the footprint is the
+  /// convex hull of the ink instead.
+  bool outer_outline_open = false;
   double area_m2 = 0.0;
 
   int numComponents() const { return static_cast<int>(component_area_m2.size()); }
