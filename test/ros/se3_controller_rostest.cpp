@@ -117,8 +117,11 @@ TEST_F(Se3ControllerNodeTest, HoverStaleOdometryAndNanCommand) {
   EXPECT_GT(so3_.back().force.z, kMassKg * (kG - 1.0));  // gentle, not a fall
   EXPECT_TRUE(logs.waitFor("/se3_controller", "stale", 5.0));
 
-  // Odometry back, then a NaN command: refused, hover at the latched position.
+  // Odometry back, then a NaN command: refused, hover at the latched position. Just before, a
+  // short odometry gap (stale after 0.2 s) makes a stale-odometry warning: it must not hide the
+  // hold warning that follows it within the same half second.
   run(0.5, true, 1.0);
+  run(0.3, false, 1.0);
   so3_.clear();
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(0.6);
   while (ros::WallTime::now() < end) {
@@ -142,7 +145,7 @@ TEST_F(Se3ControllerNodeTest, HoverStaleOdometryAndNanCommand) {
   }
   EXPECT_NEAR(so3_.back().force.z, kMassKg * kG, 0.05);
   EXPECT_LT(tiltRad(so3_.back().orientation), 1e-6);
-  EXPECT_TRUE(logs.waitFor("/se3_controller", "hold", 5.0));
+  EXPECT_TRUE(logs.waitFor("/se3_controller", "hold_position: reference rejected", 5.0));
 
   // Commands stop, odometry goes on: hover where the vehicle is.
   run(0.5, true, 1.0);
