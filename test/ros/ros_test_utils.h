@@ -35,11 +35,22 @@ inline bool nodeAlive(const std::string& name) {
   return false;
 }
 
-/// Collects /rosout_agg messages so tests can check what a node said.
+/// Collects /rosout messages so tests can check what a node said. (Not /rosout_agg: rostest runs
+/// its master without the rosout relay node, so /rosout_agg stays silent.)
 class LogCollector {
  public:
   explicit LogCollector(ros::NodeHandle& nh)
-      : sub_(nh.subscribe("/rosout_agg", 100, &LogCollector::onLog, this)) {}
+      : sub_(nh.subscribe("/rosout", 1000, &LogCollector::onLog, this)) {}
+
+  /// Waits until at least `publishers` nodes are connected to this collector (log lines sent
+  /// before a node is connected are lost).
+  bool waitForPublishers(uint32_t publishers, double timeout_s) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
+    while (sub_.getNumPublishers() < publishers && ros::WallTime::now() < end) {
+      ros::WallDuration(0.05).sleep();
+    }
+    return sub_.getNumPublishers() >= publishers;
+  }
 
   /// Waits until a message from `node` containing `needle` arrived, up to `timeout_s`.
   bool waitFor(const std::string& node, const std::string& needle, double timeout_s) {
