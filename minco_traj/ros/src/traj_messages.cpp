@@ -1,6 +1,7 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include "minco_traj_ros/traj_messages.h"
 
+#include <tf2_eigen/tf2_eigen.h>
 #include <cmath>
 
 #include "minco_traj/polytope_edges.h"
@@ -9,20 +10,11 @@ namespace efs::traj {
 
 namespace {
 
-geometry_msgs::Point point(const Eigen::Vector3d& p) {
-  geometry_msgs::Point q;
-  q.x = p.x();
-  q.y = p.y();
-  q.z = p.z();
-  return q;
-}
+geometry_msgs::Point point(const Eigen::Vector3d& p) { return tf2::toMsg(p); }
 
 geometry_msgs::Vector3 vec(const Eigen::Vector3d& v) {
   geometry_msgs::Vector3 q;
-  q.x = v.x();
-  q.y = v.y();
-  q.z = v.z();
-  return q;
+  return tf2::toMsg(v, q);
 }
 
 visualization_msgs::Marker lineMarker(const std_msgs::Header& header, const std::string& ns,

@@ -3,6 +3,7 @@
 
 #include <explore_from_sketch/AttitudeTarget.h>
 #include <explore_from_sketch/SO3Command.h>
+#include <tf2_eigen/tf2_eigen.h>
 
 #include <vector>
 
@@ -25,20 +26,10 @@ void getVector3(ros_common::ParamReader& p, const ros::NodeHandle& nh, const std
 
 geometry_msgs::Vector3 vec(const Eigen::Vector3d& v) {
   geometry_msgs::Vector3 q;
-  q.x = v.x();
-  q.y = v.y();
-  q.z = v.z();
-  return q;
+  return tf2::toMsg(v, q);
 }
 
-geometry_msgs::Quaternion quat(const Eigen::Quaterniond& q) {
-  geometry_msgs::Quaternion m;
-  m.w = q.w();
-  m.x = q.x();
-  m.y = q.y();
-  m.z = q.z();
-  return m;
-}
+geometry_msgs::Quaternion quat(const Eigen::Quaterniond& q) { return tf2::toMsg(q); }
 
 }  // namespace
 
