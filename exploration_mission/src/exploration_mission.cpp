@@ -179,7 +179,6 @@ bool ExplorationMission::step() {
     log_.max_tracking_error_m = std::max(log_.max_tracking_error_m, e);
     tracking_error_sq_sum_ += e * e;
     ++tracking_samples_;
-    log_.rms_tracking_error_m = std::sqrt(tracking_error_sq_sum_ / tracking_samples_);
   }
   const control::ControlOutput out = controller_.update(o, ref, t);
   sim::SO3Command cmd;
@@ -273,6 +272,9 @@ void ExplorationMission::finish(MissionEnd end, const std::string& message) {
   log_.end_time_s = sim.time_s();
   log_.flight_distance_m = sim.travelledDistance_m();
   log_.coverage_log = sim.coverageLog();
+  if (tracking_samples_ > 0) {
+    log_.rms_tracking_error_m = std::sqrt(tracking_error_sq_sum_ / tracking_samples_);
+  }
   if (sim.coverage()) log_.coverage = sim.coverage()->fraction();
   const auto& gt = sim.groundTruth();
   log_.trajectory.push_back({sim.time_s(), gt.p_world_m, gt.v_world_m_s.norm()});

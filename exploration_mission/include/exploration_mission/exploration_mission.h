@@ -55,7 +55,7 @@ struct MissionLog {
   std::vector<TrajectoryRecord> trajectory;
   std::vector<HypothesisRecord> registrations;
   size_t replans = 0, emergency_stops = 0, planner_cycles = 0;
-  /// Distance between the reference and the true position, over the flight.
+  /// Distance between the reference and the true position, over the flight (RMS set at the end).
   double max_tracking_error_m = 0.0, rms_tracking_error_m = 0.0;
   double registration_cpu_s = 0.0, planner_cpu_s = 0.0, trajectory_cpu_s = 0.0;
   double simulator_cpu_s = 0.0;

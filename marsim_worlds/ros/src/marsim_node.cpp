@@ -25,10 +25,14 @@ MarsimNodeConfig loadMarsimNodeConfig(const ros::NodeHandle& private_nh) {
   MarsimNodeConfig c;
   p.get("world_kind", c.session.world.kind);
   p.get("world_size", c.session.world.size);
-  int seed = static_cast<int>(c.session.world.seed);
-  p.get("world_seed", seed);
-  requireInRange("world_seed", seed, 0, 1 << 30);
-  c.session.world.seed = static_cast<uint64_t>(seed);
+  // ROS parameters hold 32-bit ints: seeds are read as int and range-checked.
+  auto getSeed = [&p](const std::string& key, uint64_t& seed) {
+    int value = static_cast<int>(seed);
+    p.get(key, value);
+    requireInRange(key, value, 0, 1 << 30);
+    seed = static_cast<uint64_t>(value);
+  };
+  getSeed("world_seed", c.session.world.seed);
   p.get("world_resolution_m", c.session.world.resolution_m);
   p.get("world_sdf", c.session.world.sdf_path);
   p.get("world_mesh", c.session.world.mesh_path);
@@ -44,10 +48,7 @@ MarsimNodeConfig loadMarsimNodeConfig(const ros::NodeHandle& private_nh) {
   p.get("status_rate_hz", c.status_rate_hz);
   p.get("coverage_enabled", c.session.coverage_enabled);
   p.get("coverage_sample_spacing_m", c.session.coverage_sample_spacing_m);
-  int sim_seed = static_cast<int>(c.session.sim.seed);
-  p.get("seed", sim_seed);
-  requireInRange("seed", sim_seed, 0, 1 << 30);
-  c.session.sim.seed = static_cast<uint64_t>(sim_seed);
+  getSeed("seed", c.session.sim.seed);
   p.get("physics_rate_hz", c.session.sim.physics_rate_hz);
   p.get("odometry_rate_hz", c.session.sim.odometry_rate_hz);
   p.get("vehicle_radius_m", c.session.sim.vehicle_radius_m);
