@@ -24,6 +24,8 @@ void Se3ControllerConfig::validate() const {
   requireInRange("se3.min_thrust_accel_mps2", min_thrust_accel_mps2, 0.0, gravity_mps2);
   requireInRange("se3.odom_timeout_s", odom_timeout_s, 1e-3, 10.0);
   requireInRange("se3.command_timeout_s", command_timeout_s, 1e-3, 60.0);
+  requireInRange("se3.brake_accel_mps2", brake_accel_mps2, 0.0, 0.8 * gravity_mps2);
+  requireInRange("se3.brake_attitude_lag_s", brake_attitude_lag_s, 0.0, 2.0);
   requireInRange("se3.descent_accel_mps2", descent_accel_mps2, 0.0, 0.5 * gravity_mps2);
   requireInRange("se3.descent_speed_mps", descent_speed_mps, 0.0, 5.0);
   requireInRange("se3.hover_throttle_min", hover_throttle_min, 0.01, 0.99);
@@ -191,16 +193,26 @@ ControlOutput Se3Controller::levelDescend(double now_s) {
   if (!descending_) {
     descending_ = true;
     descent_start_s_ = now_s;
+    brake_velocity_mps_ = last_odom_.v_world_mps.head<2>();
   }
   const double elapsed = now_s - descent_start_s_;
   const double ramp_s =
       cfg_.descent_accel_mps2 > 0.0 ? cfg_.descent_speed_mps / cfg_.descent_accel_mps2 : 0.0;
   const double down = elapsed < ramp_s ? cfg_.descent_accel_mps2 : 0.0;
+  // The velocity at the onset, decelerated at brake_accel along its own direction, reaches zero
+  // after |v| / a (plus the attitude lag): until then the thrust leans against it. Without odometry
+  // this is the best estimate there is, and it stops the vehicle in v^2 / 2a instead of letting it
+  // drift.
+  Eigen::Vector3d f(0, 0, cfg_.gravity_mps2 - down);
+  const double speed = brake_velocity_mps_.norm();
+  if (cfg_.brake_accel_mps2 > 0.0 && speed > 1e-3 &&
+      elapsed < speed / cfg_.brake_accel_mps2 + cfg_.brake_attitude_lag_s) {
+    f.head<2>() = -cfg_.brake_accel_mps2 * brake_velocity_mps_ / speed;
+  }
   ControlOutput out;
   out.mode = ControlMode::kLevelDescend;
   const double yaw = yawOf(last_odom_.q_world_body.normalized().toRotationMatrix());
-  fillOutputs(last_odom_, Eigen::Vector3d(0, 0, cfg_.gravity_mps2 - down), yaw,
-              Eigen::Vector3d::Zero(), out);
+  fillOutputs(last_odom_, f, yaw, Eigen::Vector3d::Zero(), out);
   return out;
 }
 

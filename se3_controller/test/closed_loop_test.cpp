@@ -186,3 +186,45 @@ TEST(ClosedLoop, StaleOdometryDescendsSlowlyAndLevel) {
 
 }  // namespace
 }  // namespace efs::control
+
+namespace efs::control {
+namespace {
+
+// Odometry lost at 4 m/s: the open-loop brake stops the vehicle within about v^2 / 2a of where
+// the last odometry was, instead of drifting on at the last velocity.
+TEST(ClosedLoop, StaleOdometryInFastFlightBrakesToAStop) {
+  Se3Controller ctrl;
+  const auto& cfg = ctrl.config();
+  RigidBody body;
+  body.p = Eigen::Vector3d(0, 0, 5);
+  body.v = Eigen::Vector3d(4.0, 0, 0);
+  OdometryState frozen;
+  bool frozen_set = false;
+  FlatReference r;
+  for (double t = 0; t < 4.0; t += 0.01) {
+    r.stamp_s = t;
+    r.p_world_m = Eigen::Vector3d(4.0 * t, 0, 5);
+    r.v_world_mps = Eigen::Vector3d(4.0, 0, 0);
+    OdometryState o = body.odom(t);
+    if (t >= 0.5) {
+      if (!frozen_set) {
+        frozen = o;
+        frozen_set = true;
+      }
+      o = frozen;
+    }
+    const auto out = ctrl.update(o, r, t);
+    for (int k = 0; k < 20; ++k) body.step(out.so3, 0.0005);
+  }
+  ASSERT_TRUE(frozen_set);
+  const double stop_m = 16.0 / (2.0 * cfg.brake_accel_mps2);
+  // Plus 4 m/s over the odometry timeout and over the attitude lag, plus slack; drifting on would
+  // have covered 14 m.
+  const double bound_m = stop_m + 4.0 * (cfg.odom_timeout_s + cfg.brake_attitude_lag_s) + 0.5;
+  EXPECT_LT(body.p.x() - frozen.p_world_m.x(), bound_m);
+  EXPECT_LT(body.v.head<2>().norm(), 0.3);
+  EXPECT_GT(body.R(2, 2), 0.999);  // level again
+}
+
+}  // namespace
+}  // namespace efs::control

@@ -143,6 +143,25 @@ TEST(Safety, StaleOdometryLevelsAndDescendsGently) {
   EXPECT_EQ(out.mode, ControlMode::kTracking);
 }
 
+TEST(Safety, StaleOdometryInMotionBrakesAgainstTheLastVelocityThenLevels) {
+  Se3Controller c;
+  const auto& cfg = c.config();
+  OdometryState o = hoverOdom(0.0);
+  o.v_world_mps = Eigen::Vector3d(0.0, -3.0, 0.0);
+  c.update(o, hoverRef(0.0), 0.0);
+  auto out = c.update(o, hoverRef(0.25), 0.25);
+  ASSERT_EQ(out.mode, ControlMode::kLevelDescend);
+  const Eigen::Vector3d f = out.so3.force_world_N / cfg.mass_kg;
+  EXPECT_NEAR(f.x(), 0.0, 1e-12);
+  EXPECT_NEAR(f.y(), cfg.brake_accel_mps2, 1e-12);  // leaning against -y motion
+  // |v| / a + the attitude lag after the onset (0.25 s) the brake ends and the attitude is level.
+  const double brake_end_s = 0.25 + 3.0 / cfg.brake_accel_mps2 + cfg.brake_attitude_lag_s;
+  out = c.update(o, hoverRef(brake_end_s - 0.01), brake_end_s - 0.01);
+  EXPECT_GT(out.so3.force_world_N.y(), 0.0);
+  out = c.update(o, hoverRef(brake_end_s + 0.01), brake_end_s + 0.01);
+  EXPECT_LT(out.so3.force_world_N.head<2>().norm(), 1e-12);
+}
+
 TEST(Safety, StaleCommandHoversAtTheLastPosition) {
   Se3Controller c;
   c.update(hoverOdom(0.0, {1, 2, 3}), hoverRef(0.0, {5, 5, 5}), 0.0);

@@ -63,6 +63,13 @@ struct Se3ControllerConfig {
   // Safety.
   double odom_timeout_s = 0.2;
   double command_timeout_s = 0.5;
+  /// Odometry lost in flight: first brake open-loop against the last measured horizontal
+  /// velocity at this deceleration (dead reckoning, as a flight controller's failsafe would), so
+  /// that a vehicle at 4 m/s stops within about 2.7 m instead of drifting on; 0 = no braking.
+  double brake_accel_mps2 = 3.0;
+  /// The tilt builds up and relaxes over the attitude loop's response time, so the brake is held
+  /// this much longer than |v| / brake_accel to take out the speed lost meanwhile.
+  double brake_attitude_lag_s = 0.15;
   double descent_accel_mps2 = 0.5;  ///< open-loop descent: accelerate down at this ...
   double descent_speed_mps = 0.5;   ///< ... until this speed, then hold the thrust at hover
   // Hover throttle (normalised thrust in [0, 1] that holds the vehicle at 1 g).
@@ -98,7 +105,7 @@ struct AttitudeTargetOut {
 enum class ControlMode {
   kTracking,      ///< following the reference
   kHoldPosition,  ///< reference stale or invalid: hovering at the latched position
-  kLevelDescend,  ///< odometry stale: level attitude, gentle descent
+  kLevelDescend,  ///< odometry stale: brake against the last velocity, then level, gentle descent
   kNoOdometry     ///< nothing valid received yet: motors idle
 };
 const char* toString(ControlMode m);
@@ -163,6 +170,7 @@ class Se3Controller {
   double hold_yaw_ = 0.0;
   bool descending_ = false;
   double descent_start_s_ = 0.0;
+  Eigen::Vector2d brake_velocity_mps_ = Eigen::Vector2d::Zero();  ///< at the onset of the descent
   double hover_throttle_ = 0.5;
   double last_thrust_cmd_ = 0.0;
   double last_acc_stamp_s_ = 0.0;
