@@ -22,7 +22,9 @@ void LocalGridConfig::validate() const {
   requireInRange("local_grid.ray_downsample_m", ray_downsample_m, 0.0, 5.0);
   requireInRange("local_grid.logodds_hit", logodds_hit, 1e-3, 10.0);
   requireInRange("local_grid.logodds_miss", logodds_miss, -10.0, -1e-3);
-  requireInRange("local_grid.logodds_min", logodds_min, -20.0, logodds_miss);
+  requireInRange("local_grid.logodds_miss_occupied", logodds_miss_occupied, -10.0, -1e-3);
+  requireInRange("local_grid.logodds_min", logodds_min, -20.0,
+                 std::min(logodds_miss, logodds_miss_occupied));
   requireInRange("local_grid.logodds_max", logodds_max, logodds_hit, 20.0);
   requireInRange("local_grid.logodds_occupied", logodds_occupied, logodds_min, logodds_max);
 }
@@ -155,7 +157,12 @@ void LocalGrid::insertScan(const Eigen::Vector3d& origin,
     const size_t idx = index(k);
     if (scan_stamp_[idx] == scan_id_) continue;
     scan_stamp_[idx] = scan_id_;
-    updateCell(idx, k, static_cast<float>(cfg_.logodds_hit));
+    float delta = static_cast<float>(cfg_.logodds_hit);
+    if (cfg_.hit_overrides_free) {
+      delta = std::max(
+          delta, static_cast<float>(cfg_.logodds_occupied + cfg_.logodds_hit) - logodds_[idx]);
+    }
+    updateCell(idx, k, delta);
   }
   // One ray per coarse end voxel (the first point in it), in a deterministic order.
   ray_bins_.clear();
@@ -183,7 +190,9 @@ void LocalGrid::insertScan(const Eigen::Vector3d& origin,
       const size_t idx = index(k);
       if (scan_stamp_[idx] == scan_id_) return true;
       scan_stamp_[idx] = scan_id_;
-      updateCell(idx, k, static_cast<float>(cfg_.logodds_miss));
+      updateCell(
+          idx, k,
+          static_cast<float>(occupied_[idx] ? cfg_.logodds_miss_occupied : cfg_.logodds_miss));
       return true;
     });
   }

@@ -53,6 +53,45 @@ TEST(LocalGrid, RepeatedMissesClearAnObstacleAndItsInflation) {
   EXPECT_EQ(g.state(far), CellState::kOccupied);
 }
 
+// A floor cell on the line of sight to a farther floor point: grazing rays cross it.
+struct GrazingFloor {
+  Eigen::Vector3d origin{-3.0, 0.05, 0.25};
+  Eigen::Vector3d floor_cell{0.95, 0.05, -0.15};
+  Eigen::Vector3d farther() const { return origin + 1.1 * (floor_cell - origin); }
+};
+
+TEST(LocalGrid, GrazingRaysDoNotEraseAnObservedFloor) {
+  const GrazingFloor s;
+  LocalGridConfig cfg = smallGrid();
+  cfg.ray_downsample_m = 0.0;
+  for (const bool weak_miss : {true, false}) {
+    LocalGridConfig c = cfg;
+    if (!weak_miss) c.logodds_miss_occupied = c.logodds_miss;  // the old behaviour, for contrast
+    LocalGrid g(c, Eigen::Vector3d(0, 0, 0));
+    g.insertScan(s.origin, {s.floor_cell});
+    ASSERT_EQ(g.state(s.floor_cell), CellState::kOccupied);
+    for (int i = 0; i < 6; ++i) g.insertScan(s.origin, {s.farther()});
+    EXPECT_EQ(g.state(s.floor_cell), weak_miss ? CellState::kOccupied : CellState::kFree)
+        << "weak miss on occupied cells: " << weak_miss;
+  }
+}
+
+TEST(LocalGrid, AHitMakesACellOccupiedWhateverItsMisses) {
+  const GrazingFloor s;
+  LocalGridConfig cfg = smallGrid();
+  cfg.ray_downsample_m = 0.0;
+  for (const bool overrides : {true, false}) {
+    LocalGridConfig c = cfg;
+    c.hit_overrides_free = overrides;
+    LocalGrid g(c, Eigen::Vector3d(0, 0, 0));
+    for (int i = 0; i < 10; ++i) g.insertScan(s.origin, {s.farther()});  // seen through first
+    ASSERT_EQ(g.state(s.floor_cell), CellState::kFree);
+    g.insertScan(s.origin, {s.floor_cell});
+    EXPECT_EQ(g.state(s.floor_cell), overrides ? CellState::kOccupied : CellState::kFree)
+        << "hit overrides free: " << overrides;
+  }
+}
+
 TEST(LocalGrid, OneRayPerCoarseEndVoxelButEveryHitCounts) {
   // Two returns 0.1 m apart in one 0.3 m voxel, on rays 0.2 rad apart.
   const Eigen::Vector3d origin(-1.0, 0.05, 0.05), a(1.05, 0.05, 0.05), b(1.05, 0.15, 0.05);

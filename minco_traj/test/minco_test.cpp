@@ -279,6 +279,7 @@ TEST(TrajOptimizer, RandomCorridorsAllFeasibleAndChecked) {
   std::uniform_real_distribution<double> turn(-1.0, 1.0), seg(2.0, 4.0), u(-1.0, 1.0);
   CorridorConfig ccfg;
   ccfg.max_seed_length_m = 100.0;
+  ccfg.clearance_m = 0.3;  // obstacles come to 0.5 m of the seed: corridors 0.2 m wide or less
   CorridorBuilder builder(ccfg);
   TrajOptConfig cfg;
   TrajOptimizer opt(cfg);

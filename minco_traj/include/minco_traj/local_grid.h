@@ -23,13 +23,21 @@ struct LocalGridConfig {
   double size_x_m = 24.0;  ///< window extent, centred on the robot
   double size_y_m = 24.0;
   double size_z_m = 6.0;
-  double inflation_radius_m = 0.3;  ///< vehicle radius plus margin
-  double max_ray_length_m = 30.0;   ///< longer rays clear free space up to this range only
+  double inflation_radius_m = 0.45;  ///< vehicle radius plus margin
+  double max_ray_length_m = 30.0;    ///< longer rays clear free space up to this range only
   /// Free space is cleared by one ray per end-point voxel of this size (0: a ray per point);
   /// every point still marks its hit. Rays are what a scan costs (memory-bound cell visits).
   double ray_downsample_m = 0.3;
   double logodds_hit = 0.85;
   double logodds_miss = -0.4;
+  /// A miss through a cell that is occupied now. Rays that graze a floor or wall on their way to
+  /// a farther point of it cross its cells; at the full miss they erased floors under the vehicle
+  /// (seen: a collision with a cave floor the grid held free). Weaker, a surface survives them.
+  double logodds_miss_occupied = -0.1;
+  /// A hit makes the cell occupied at once, whatever misses it collected before: a floor far
+  /// ahead is crossed by grazing rays long before it is hit itself. Right for the static worlds
+  /// the planner explores; switch off for scenes with moving obstacles.
+  bool hit_overrides_free = true;
   double logodds_min = -2.0;
   double logodds_max = 3.5;
   double logodds_occupied = 0.7;  ///< above this an observed cell is occupied
