@@ -47,6 +47,29 @@ MissionSpec missionSpecFromArgs(const CliArgs& args, const std::string& default_
   return spec;
 }
 
+std::optional<MissionPrior> makeMissionPrior(const MissionSpec& spec, const sim::VoxelWorld& world,
+                                             const std::string& sketch_png_out) {
+  requireInRange("mapping_range_m", spec.mapping_range_m, 0.5, 200.0);
+  if (!spec.usesPrior()) return std::nullopt;
+  prior_map::PriorMapConfig prior_config;
+  prior_config.guidepoints.mapping_range_m = spec.mapping_range_m;
+  if (!spec.sketch_path.empty()) {
+    const cv::Mat image = cv::imread(spec.sketch_path, cv::IMREAD_GRAYSCALE);
+    if (image.empty()) throw std::runtime_error("cannot read sketch '" + spec.sketch_path + "'");
+    return prepareMissionPrior(image, *spec.scale_guess_m_per_px, prior_config, std::nullopt, 1.0,
+                               spec.sketch_path);
+  }
+  sim::SketchConfig sketch_config;
+  sketch_config.seed = spec.sketch_seed;
+  const sim::Sketch sketch =
+      sim::drawSketch(world, sim::parseSketchVariant(spec.sketch_variant), sketch_config);
+  if (!sketch_png_out.empty()) sim::saveSketch(sketch, sketch_png_out);
+  return prepareMissionPrior(sketch.image,
+                             spec.scale_guess_m_per_px.value_or(sketch.metres_per_pixel),
+                             prior_config, sketch.T_world_sketch, sketch.metres_per_pixel,
+                             spec.sketch_variant + " sketch of " + spec.world.describe());
+}
+
 std::unique_ptr<ExplorationMission> makeMission(const MissionSpec& spec, MissionConfig config,
                                                 const std::string& sketch_png_out) {
   config.session.world = spec.world;
@@ -54,27 +77,7 @@ std::unique_ptr<ExplorationMission> makeMission(const MissionSpec& spec, Mission
   requireInRange("mapping_range_m", spec.mapping_range_m, 0.5, 200.0);
   config.validate();
   sim::VoxelWorld world = sim::loadWorld(spec.world);
-  std::optional<MissionPrior> prior;
-  if (spec.usesPrior()) {
-    prior_map::PriorMapConfig prior_config;
-    prior_config.guidepoints.mapping_range_m = spec.mapping_range_m;
-    if (!spec.sketch_path.empty()) {
-      const cv::Mat image = cv::imread(spec.sketch_path, cv::IMREAD_GRAYSCALE);
-      if (image.empty()) throw std::runtime_error("cannot read sketch '" + spec.sketch_path + "'");
-      prior = prepareMissionPrior(image, *spec.scale_guess_m_per_px, prior_config, std::nullopt,
-                                  1.0, spec.sketch_path);
-    } else {
-      sim::SketchConfig sketch_config;
-      sketch_config.seed = spec.sketch_seed;
-      const sim::Sketch sketch =
-          sim::drawSketch(world, sim::parseSketchVariant(spec.sketch_variant), sketch_config);
-      if (!sketch_png_out.empty()) sim::saveSketch(sketch, sketch_png_out);
-      prior = prepareMissionPrior(sketch.image,
-                                  spec.scale_guess_m_per_px.value_or(sketch.metres_per_pixel),
-                                  prior_config, sketch.T_world_sketch, sketch.metres_per_pixel,
-                                  spec.sketch_variant + " sketch of " + spec.world.describe());
-    }
-  }
+  std::optional<MissionPrior> prior = makeMissionPrior(spec, world, sketch_png_out);
   return std::make_unique<ExplorationMission>(config, std::move(world), std::move(prior));
 }
 

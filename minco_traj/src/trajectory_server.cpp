@@ -120,13 +120,55 @@ void TrajectoryServer::clearGoal(double time_s) {
   collision_predicted_ = false;
   const std::optional<ReferenceSample> ref = referenceAt(time_s);
   if (!ref || !std::isfinite(time_s)) return;
-  const double decel = cfg_.planner.emergency_decel_mps2 > 0.0 ? cfg_.planner.emergency_decel_mps2
-                                                               : cfg_.planner.optimizer.a_max_mps2;
-  install(emergencyStop(ref->p_world_m, ref->v_world_mps, decel, ref->yaw_rad), time_s);
+  install(emergencyStop(ref->p_world_m, ref->v_world_mps, holdDecel(), ref->yaw_rad), time_s);
   message_ = "goal cleared: holding";
 }
 
 std::optional<ReferenceSample> TrajectoryServer::referenceAt(double time_s) const {
+  if (!warp_) return unwarpedReferenceAt(time_s);
+  // Chain rule of p(tau(t)), with the rate of tau falling at the constant 1 / stop_s.
+  const double dt = std::clamp(time_s - warp_->t0_s, 0.0, warp_->stop_s);
+  const bool slowing = warp_->stop_s > 0.0 && time_s - warp_->t0_s < warp_->stop_s;
+  const double rate = warp_->stop_s > 0.0 ? 1.0 - dt / warp_->stop_s : 0.0;
+  const double rate_dot = slowing ? -1.0 / warp_->stop_s : 0.0;
+  const double tau = warp_->t0_s + dt - (warp_->stop_s > 0.0 ? 0.5 * dt * dt / warp_->stop_s : 0.0);
+  std::optional<ReferenceSample> s = unwarpedReferenceAt(tau);
+  if (!s) return s;
+  const Eigen::Vector3d v = s->v_world_mps, a = s->a_world_mps2, j = s->j_world_mps3;
+  s->v_world_mps = rate * v;
+  s->a_world_mps2 = rate * rate * a + rate_dot * v;
+  s->j_world_mps3 = rate * rate * rate * j + 3.0 * rate * rate_dot * a;
+  s->yaw_rate_radps *= rate;
+  return s;
+}
+
+double TrajectoryServer::holdDecel() const {
+  return cfg_.planner.emergency_decel_mps2 > 0.0 ? cfg_.planner.emergency_decel_mps2
+                                                 : cfg_.planner.optimizer.a_max_mps2;
+}
+
+void TrajectoryServer::holdAlongPath(double time_s) {
+  if (warp_ || !std::isfinite(time_s)) return;
+  const std::optional<ReferenceSample> ref = unwarpedReferenceAt(time_s);
+  if (!ref) return;
+  // Decelerating at a along the path from speed v takes v / a.
+  warp_ = Warp{time_s, ref->v_world_mps.norm() / holdDecel()};
+  message_ = "odometry lost: stopping along the current trajectory";
+}
+
+void TrajectoryServer::resumeFromHold(double time_s) {
+  if (!warp_ || !std::isfinite(time_s)) return;
+  const std::optional<ReferenceSample> ref = referenceAt(time_s);
+  warp_.reset();
+  if (ref) {
+    install(emergencyStop(ref->p_world_m, ref->v_world_mps, holdDecel(), ref->yaw_rad), time_s);
+    previous_.reset();  // the warped reference is gone: nothing before time_s to blend from
+  }
+  if (goal_) new_goal_ = true;
+  message_ = "odometry back: replanning from the held reference";
+}
+
+std::optional<ReferenceSample> TrajectoryServer::unwarpedReferenceAt(double time_s) const {
   const bool use_previous = previous_ && time_s < current_start_s_;
   const Trajectory* traj = use_previous ? &*previous_ : current();
   if (!traj || traj->empty()) return std::nullopt;
@@ -162,7 +204,7 @@ ServerEvent TrajectoryServer::update(double time_s, const VehicleState& state) {
     return ServerEvent::kRejectedInput;
   }
   last_update_s_ = time_s;
-  if (!goal_) return ServerEvent::kNone;
+  if (!goal_ || warp_) return ServerEvent::kNone;  // holding: resumeFromHold() ends it
 
   std::string reason;
   if (new_goal_) {

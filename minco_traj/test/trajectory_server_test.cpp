@@ -294,6 +294,52 @@ TEST(TrajectoryServer, ClearGoalBrakesToAHold) {
   EXPECT_EQ(server.update(10.0, fromReference(server.sample(10.0))), ServerEvent::kNone);
 }
 
+// Odometry lost mid-flight: the reference slows to a stop on the trajectory it was serving
+// (every sample lies on the original path), within v / a_max, and resumes continuously.
+TEST(TrajectoryServer, HoldAlongPathStopsOnTheCurrentTrajectoryAndResumes) {
+  TrajectoryServer server(smallConfig());
+  server.setGoal({5, 4, 1.5}, std::nullopt, 0.0);
+  VehicleState state = at({0, 0, 1});
+  double t = 0.0;
+  for (; t < 1.5; t += 0.01) {
+    server.update(t, state);
+    state = fromReference(server.sample(t));
+  }
+  ASSERT_NE(server.current(), nullptr);
+  const Trajectory original = *server.current();
+  const double start = server.currentStart_s();
+  const double speed0 = server.sample(t).v_world_mps.norm();
+  ASSERT_GT(speed0, 1.0);
+  server.holdAlongPath(t);
+  ASSERT_TRUE(server.holdingAlongPath());
+  EXPECT_EQ(server.update(t + 0.1, state), ServerEvent::kNone);  // no replanning meanwhile
+  const double decel = server.config().planner.optimizer.a_max_mps2;
+  double last_speed = speed0, tau = t - start;
+  for (double h = t; h < t + speed0 / decel + 1.0; h += 0.01) {
+    const ReferenceSample r = server.sample(h);
+    // On the original path: the nearest original sample ahead of the last one is within 1 mm.
+    double best = 1e9;
+    for (double q = tau; q < tau + 0.05; q += 0.0005) {
+      const double d = (original.position(q) - r.p_world_m).norm();
+      if (d < best) {
+        best = d;
+        tau = std::max(tau, q);
+      }
+    }
+    EXPECT_LT(best, 1e-3) << "h = " << h;
+    EXPECT_LE(r.v_world_mps.norm(), last_speed + 1e-9);
+    EXPECT_LE(r.a_world_mps2.norm(), decel + 3.0 * server.config().planner.optimizer.a_max_mps2);
+    last_speed = r.v_world_mps.norm();
+  }
+  EXPECT_LT(last_speed, 1e-9);  // at rest after v / a
+  const double t_back = t + speed0 / decel + 1.0;
+  const ReferenceSample before = server.sample(t_back);
+  server.resumeFromHold(t_back);
+  EXPECT_FALSE(server.holdingAlongPath());
+  EXPECT_LT((server.sample(t_back).p_world_m - before.p_world_m).norm(), 1e-6);
+  EXPECT_EQ(server.update(t_back, fromReference(before)), ServerEvent::kReplanned);
+}
+
 TEST(TrajectoryServer, ConfigValidationNamesTheKey) {
   TrajectoryServerConfig cfg;
   cfg.replan_period_s = 0.0;

@@ -24,8 +24,11 @@ void Se3ControllerConfig::validate() const {
   requireInRange("se3.min_thrust_accel_mps2", min_thrust_accel_mps2, 0.0, gravity_mps2);
   requireInRange("se3.odom_timeout_s", odom_timeout_s, 1e-3, 10.0);
   requireInRange("se3.command_timeout_s", command_timeout_s, 1e-3, 60.0);
+  requireInRange("se3.feedforward_on_odometry_loss_s", feedforward_on_odometry_loss_s, 0.0, 60.0);
+  requireInRange("se3.dead_reckoning_lag_s", dead_reckoning_lag_s, 0.0, 2.0);
   requireInRange("se3.brake_accel_mps2", brake_accel_mps2, 0.0, 0.8 * gravity_mps2);
   requireInRange("se3.brake_attitude_lag_s", brake_attitude_lag_s, 0.0, 2.0);
+  requireInRange("se3.descent_delay_s", descent_delay_s, 0.0, 60.0);
   requireInRange("se3.descent_accel_mps2", descent_accel_mps2, 0.0, 0.5 * gravity_mps2);
   requireInRange("se3.descent_speed_mps", descent_speed_mps, 0.0, 5.0);
   requireInRange("se3.hover_throttle_min", hover_throttle_min, 0.01, 0.99);
@@ -41,6 +44,8 @@ const char* toString(ControlMode m) {
       return "tracking";
     case ControlMode::kHoldPosition:
       return "hold_position";
+    case ControlMode::kFeedForward:
+      return "feed_forward";
     case ControlMode::kLevelDescend:
       return "level_descend";
     case ControlMode::kNoOdometry:
@@ -198,7 +203,8 @@ ControlOutput Se3Controller::levelDescend(double now_s) {
   const double elapsed = now_s - descent_start_s_;
   const double ramp_s =
       cfg_.descent_accel_mps2 > 0.0 ? cfg_.descent_speed_mps / cfg_.descent_accel_mps2 : 0.0;
-  const double down = elapsed < ramp_s ? cfg_.descent_accel_mps2 : 0.0;
+  const double descending_s = elapsed - cfg_.descent_delay_s;
+  const double down = descending_s >= 0.0 && descending_s < ramp_s ? cfg_.descent_accel_mps2 : 0.0;
   // The velocity at the onset, decelerated at brake_accel along its own direction, reaches zero
   // after |v| / a (plus the attitude lag): until then the thrust leans against it. Without odometry
   // this is the best estimate there is, and it stops the vehicle in v^2 / 2a instead of letting it
@@ -247,11 +253,38 @@ ControlOutput Se3Controller::update(const OdometryState& odom, const FlatReferen
     return out;
   }
   const double odom_age = now_s - last_odom_.stamp_s;
-  if (odom_age > cfg_.odom_timeout_s) {
+  const bool ref_fresh = finite(ref) && now_s - ref.stamp_s <= cfg_.command_timeout_s;
+  if (odom_age > cfg_.odom_timeout_s && ref_fresh && !descending_ &&
+      odom_age <= cfg_.odom_timeout_s + cfg_.feedforward_on_odometry_loss_s) {
+    // Dead reckoning from the last odometry: the commanded acceleration, reached with the
+    // attitude loop's lag, integrated; fed back like odometry so the reference is followed.
+    if (!reckoning_) {
+      reckoning_ = true;
+      reckoning_stamp_s_ = last_odom_.stamp_s;
+      reckoned_p_ = last_odom_.p_world_m;
+      reckoned_v_ = last_odom_.v_world_mps;
+      reckoned_a_ = last_accel_cmd_;
+    }
+    const double dt = std::max(0.0, now_s - reckoning_stamp_s_);
+    const double blend =
+        cfg_.dead_reckoning_lag_s > 0.0 ? 1.0 - std::exp(-dt / cfg_.dead_reckoning_lag_s) : 1.0;
+    reckoned_a_ += blend * (last_accel_cmd_ - reckoned_a_);
+    reckoned_p_ += dt * reckoned_v_ + 0.5 * dt * dt * reckoned_a_;
+    reckoned_v_ += dt * reckoned_a_;
+    reckoning_stamp_s_ = now_s;
+    OdometryState reckoned = last_odom_;
+    reckoned.p_world_m = reckoned_p_;
+    reckoned.v_world_mps = reckoned_v_;
+    out = track(reckoned, ref, true);
+    out.mode = ControlMode::kFeedForward;
+    why << "odometry stale (" << odom_age << " s > " << cfg_.odom_timeout_s
+        << " s): following the reference on dead reckoning";
+  } else if (odom_age > cfg_.odom_timeout_s) {
     out = levelDescend(now_s);
     why << "odometry stale (" << odom_age << " s > " << cfg_.odom_timeout_s << " s)";
   } else {
     descending_ = false;
+    reckoning_ = false;
     const bool ref_ok = finite(ref);
     const double ref_age = now_s - ref.stamp_s;
     if (!ref_ok || ref_age > cfg_.command_timeout_s) {
@@ -276,6 +309,7 @@ ControlOutput Se3Controller::update(const OdometryState& odom, const FlatReferen
   }
   out.odometry_rejected = !odom_ok;
   out.reason = why.str();
+  last_accel_cmd_ = out.so3.force_world_N / cfg_.mass_kg - Eigen::Vector3d(0, 0, cfg_.gravity_mps2);
   return out;
 }
 

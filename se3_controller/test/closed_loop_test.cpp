@@ -52,6 +52,13 @@ struct RigidBody {
   }
 };
 
+/// Odometry loss handled without a reference to follow (the brake, hold and descent path).
+Se3ControllerConfig brakeOnly() {
+  Se3ControllerConfig c;
+  c.feedforward_on_odometry_loss_s = 0.0;
+  return c;
+}
+
 // Runs controller at 100 Hz and the body at 2 kHz; returns the RMS position error after `settle`.
 template <typename RefFn, typename Hook>
 double fly(Se3Controller& ctrl, RigidBody& body, RefFn ref_at, double duration, double settle,
@@ -156,8 +163,8 @@ TEST(ClosedLoop, RecoversFromAVelocityKick) {
   EXPECT_LT(body.v.norm(), 0.05);
 }
 
-TEST(ClosedLoop, StaleOdometryDescendsSlowlyAndLevel) {
-  Se3Controller ctrl;
+TEST(ClosedLoop, StaleOdometryHoldsThenDescendsSlowlyAndLevel) {
+  Se3Controller ctrl(brakeOnly());
   RigidBody body;
   body.p = Eigen::Vector3d(0, 0, 5);
   const auto& cfg = ctrl.config();
@@ -165,7 +172,8 @@ TEST(ClosedLoop, StaleOdometryDescendsSlowlyAndLevel) {
   bool frozen_set = false;
   FlatReference r;
   r.p_world_m = body.p;
-  for (double t = 0; t < 4.0; t += 0.01) {
+  const double end_s = 4.0 + cfg.descent_delay_s;
+  for (double t = 0; t < end_s; t += 0.01) {
     r.stamp_s = t;
     OdometryState o = body.odom(t);
     if (t >= 1.0) {  // odometry stops updating
@@ -177,6 +185,10 @@ TEST(ClosedLoop, StaleOdometryDescendsSlowlyAndLevel) {
     }
     const auto out = ctrl.update(o, r, t);
     for (int k = 0; k < 20; ++k) body.step(out.so3, 0.0005);
+    // Before the descent delay has passed the height is held.
+    if (t < 1.0 + cfg.odom_timeout_s + cfg.descent_delay_s - 0.05) {
+      EXPECT_NEAR(body.p.z(), 5.0, 0.1) << "t = " << t;
+    }
   }
   EXPECT_LT(body.v.z(), -0.3);
   EXPECT_GT(body.v.z(), -cfg.descent_speed_mps - 0.1);
@@ -193,7 +205,7 @@ namespace {
 // Odometry lost at 4 m/s: the open-loop brake stops the vehicle within about v^2 / 2a of where
 // the last odometry was, instead of drifting on at the last velocity.
 TEST(ClosedLoop, StaleOdometryInFastFlightBrakesToAStop) {
-  Se3Controller ctrl;
+  Se3Controller ctrl(brakeOnly());
   const auto& cfg = ctrl.config();
   RigidBody body;
   body.p = Eigen::Vector3d(0, 0, 5);
@@ -224,6 +236,67 @@ TEST(ClosedLoop, StaleOdometryInFastFlightBrakesToAStop) {
   EXPECT_LT(body.p.x() - frozen.p_world_m.x(), bound_m);
   EXPECT_LT(body.v.head<2>().norm(), 0.3);
   EXPECT_GT(body.R(2, 2), 0.999);  // level again
+}
+
+}  // namespace
+}  // namespace efs::control
+
+namespace efs::control {
+namespace {
+
+// Odometry lost on a curve: the reference (as minco_traj serves it then) slows to a stop along
+// a 5 m-radius arc; followed feed-forward only, the vehicle stays on the arc.
+TEST(ClosedLoop, LostOdometryFollowsACurvingStopOpenLoop) {
+  Se3ControllerConfig cfg;
+  cfg.dead_reckoning_lag_s = 0.05;  // this rigid body's attitude loop (marsim's is slower)
+  Se3Controller ctrl(cfg);
+  RigidBody body;
+  const double R = 5.0, v0 = 3.0, t_loss = 1.0, stop_s = 1.5;
+  // Arc length s(t): constant speed until the loss, then decelerating linearly to rest.
+  auto ref_at = [&](double t) {
+    double s = v0 * t, sd = v0, sdd = 0.0;
+    if (t > t_loss) {
+      const double d = std::min(t - t_loss, stop_s);
+      s = v0 * t_loss + v0 * d - 0.5 * v0 / stop_s * d * d;
+      sd = v0 * (1.0 - d / stop_s);
+      sdd = t - t_loss < stop_s ? -v0 / stop_s : 0.0;
+    }
+    const double th = s / R;
+    const Eigen::Vector3d T(-std::sin(th), std::cos(th), 0), N(-std::cos(th), -std::sin(th), 0);
+    FlatReference r;
+    r.stamp_s = t;
+    r.p_world_m = Eigen::Vector3d(R * std::cos(th), R * std::sin(th), 2.0);
+    r.v_world_mps = sd * T;
+    r.a_world_mps2 = sdd * T + sd * sd / R * N;
+    r.yaw_rad = 0.0;
+    return r;
+  };
+  const FlatReference r0 = ref_at(0.0);
+  body.p = r0.p_world_m;
+  body.v = r0.v_world_mps;
+  OdometryState frozen;
+  bool frozen_set = false;
+  double max_err = 0.0;
+  for (double t = 0; t < t_loss + stop_s + 1.0; t += 0.01) {
+    const FlatReference r = ref_at(t);
+    OdometryState o = body.odom(t);
+    if (t >= t_loss) {
+      if (!frozen_set) {
+        frozen = o;
+        frozen_set = true;
+      }
+      o = frozen;
+    }
+    const auto out = ctrl.update(o, r, t);
+    if (t > t_loss + ctrl.config().odom_timeout_s) {
+      EXPECT_EQ(out.mode, ControlMode::kFeedForward) << "t = " << t;
+    }
+    for (int k = 0; k < 20; ++k) body.step(out.so3, 0.0005);
+    max_err = std::max(max_err, (body.p - r.p_world_m).norm());
+  }
+  EXPECT_LT(max_err, 0.3);
+  EXPECT_LT(body.v.norm(), 0.3);
+  // A straight-line brake from the loss point would have left the arc by more than a metre.
 }
 
 }  // namespace

@@ -25,6 +25,13 @@ FlatReference hoverRef(double t, const Eigen::Vector3d& p = Eigen::Vector3d(0, 0
   return r;
 }
 
+/// Odometry loss handled without a reference to follow (the brake, hold and descent path).
+Se3ControllerConfig brakeOnly() {
+  Se3ControllerConfig c;
+  c.feedforward_on_odometry_loss_s = 0.0;
+  return c;
+}
+
 TEST(Se3Controller, HoverEquilibrium) {
   Se3Controller c;
   const auto out = c.update(hoverOdom(1.0), hoverRef(1.0), 1.0);
@@ -118,7 +125,7 @@ TEST(Flatness, BodyRatesMatchNumericalDifferentiation) {
 }
 
 TEST(Safety, StaleOdometryLevelsAndDescendsGently) {
-  Se3Controller c;
+  Se3Controller c(brakeOnly());
   const auto& cfg = c.config();
   OdometryState o = hoverOdom(0.0);
   o.q_world_body = Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()) *
@@ -132,19 +139,26 @@ TEST(Safety, StaleOdometryLevelsAndDescendsGently) {
   EXPECT_LT((Rd.col(2) - Eigen::Vector3d::UnitZ()).norm(), 1e-12);  // level
   EXPECT_NEAR(std::atan2(Rd(1, 0), Rd(0, 0)), 0.7, 1e-9);           // keeps the last heading
   const double mg = cfg.mass_kg * cfg.gravity_mps2;
+  // First the height is held (hover thrust) for descent_delay_s ...
+  EXPECT_NEAR(out.so3.force_world_N.z(), mg, 1e-12);
+  EXPECT_LT(out.so3.force_world_N.head<2>().norm(), 1e-12);
+  // ... then the gentle descent starts ...
+  const double t_descent = 0.25 + cfg.descent_delay_s + 0.1;
+  out = c.update(o, hoverRef(t_descent), t_descent);
   EXPECT_NEAR(out.so3.force_world_N.z(), cfg.mass_kg * (cfg.gravity_mps2 - cfg.descent_accel_mps2),
               1e-12);
   EXPECT_LT(out.so3.force_world_N.head<2>().norm(), 1e-12);
-  // After the descent speed is reached the thrust returns to hover: constant slow descent.
-  out = c.update(o, hoverRef(5.0), 5.0);
+  // ... and after the descent speed is reached the thrust returns to hover: constant slow descent.
+  const double t_steady = t_descent + 5.0;
+  out = c.update(o, hoverRef(t_steady), t_steady);
   EXPECT_NEAR(out.so3.force_world_N.z(), mg, 1e-12);
   // Fresh odometry brings tracking back.
-  out = c.update(hoverOdom(5.0), hoverRef(5.0), 5.0);
+  out = c.update(hoverOdom(t_steady), hoverRef(t_steady), t_steady);
   EXPECT_EQ(out.mode, ControlMode::kTracking);
 }
 
 TEST(Safety, StaleOdometryInMotionBrakesAgainstTheLastVelocityThenLevels) {
-  Se3Controller c;
+  Se3Controller c(brakeOnly());
   const auto& cfg = c.config();
   OdometryState o = hoverOdom(0.0);
   o.v_world_mps = Eigen::Vector3d(0.0, -3.0, 0.0);
@@ -160,6 +174,33 @@ TEST(Safety, StaleOdometryInMotionBrakesAgainstTheLastVelocityThenLevels) {
   EXPECT_GT(out.so3.force_world_N.y(), 0.0);
   out = c.update(o, hoverRef(brake_end_s + 0.01), brake_end_s + 0.01);
   EXPECT_LT(out.so3.force_world_N.head<2>().norm(), 1e-12);
+}
+
+TEST(Safety, StaleOdometryWithAFreshReferenceFollowsItOnDeadReckoningForABoundedTime) {
+  Se3Controller c;
+  const auto& cfg = c.config();
+  OdometryState o = hoverOdom(0.0);
+  c.update(o, hoverRef(0.0), 0.0);
+  FlatReference r = hoverRef(0.3);
+  r.p_world_m += Eigen::Vector3d(0.5, 0, 0);
+  r.v_world_mps = Eigen::Vector3d(2.0, 0, 0);
+  r.a_world_mps2 = Eigen::Vector3d(-1.0, 0.5, 0);
+  auto out = c.update(o, r, 0.3);
+  ASSERT_EQ(out.mode, ControlMode::kFeedForward);
+  EXPECT_NE(out.reason.find("dead reckoning"), std::string::npos);
+  // The dead-reckoned state (hovering at the last odometry) is fed back against the reference.
+  const Eigen::Vector3d f = out.so3.force_world_N / cfg.mass_kg;
+  EXPECT_GT(f.x(), r.a_world_mps2.x());  // pulled toward the reference 0.5 m ahead, 2 m/s
+  EXPECT_EQ(out.mode, ControlMode::kFeedForward);
+  // Past the feed-forward window the vehicle brakes and levels instead.
+  const double late = cfg.odom_timeout_s + cfg.feedforward_on_odometry_loss_s + 0.1;
+  r.stamp_s = late;
+  out = c.update(o, r, late);
+  EXPECT_EQ(out.mode, ControlMode::kLevelDescend);
+  // A stale reference does not count either.
+  Se3Controller c2;
+  c2.update(o, hoverRef(0.0), 0.0);
+  EXPECT_EQ(c2.update(o, hoverRef(0.0), 1.0).mode, ControlMode::kLevelDescend);
 }
 
 TEST(Safety, StaleCommandHoversAtTheLastPosition) {
@@ -195,7 +236,7 @@ TEST(Safety, NaNReferenceIsRejectedAndHovers) {
 }
 
 TEST(Safety, NaNOdometryIsRejectedThenStalenessApplies) {
-  Se3Controller c;
+  Se3Controller c(brakeOnly());
   // Nothing valid yet: motors stay off.
   OdometryState bad = hoverOdom(0.0);
   bad.v_world_mps.y() = kNaN;

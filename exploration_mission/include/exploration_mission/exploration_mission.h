@@ -100,6 +100,8 @@ class ExplorationMission {
   const MissionConfig& config() const { return config_; }
   /// The latest registration result (empty without a prior).
   const registration::RegistrationResult* registrationResult() const;
+  /// The local planner's state (its occupancy window, current trajectory), for diagnostics.
+  const traj::TrajectoryServer& trajectoryServer() const { return trajectory_; }
 
  private:
   void onScan();

@@ -35,6 +35,12 @@ const std::set<std::string>& missionSpecOptions();
 MissionSpec missionSpecFromArgs(const CliArgs& args,
                                 const std::string& default_world = "simple_cave");
 
+/// The sketch of `spec` pre-processed for `world` (none when the method flies without one): the
+/// user's drawing, or the world's own drawing of the spec's variant (written to `sketch_png_out`
+/// when not empty) with its ground truth. Throws with a message naming what was wrong.
+std::optional<MissionPrior> makeMissionPrior(const MissionSpec& spec, const sim::VoxelWorld& world,
+                                             const std::string& sketch_png_out = "");
+
 /// Loads or generates the world, prepares the sketch (written to `sketch_png_out` when not
 /// empty and drawn here), and builds the mission. Throws with a message naming what was wrong.
 std::unique_ptr<ExplorationMission> makeMission(const MissionSpec& spec, MissionConfig config,

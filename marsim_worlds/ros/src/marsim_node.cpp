@@ -46,6 +46,8 @@ MarsimNodeConfig loadMarsimNodeConfig(const ros::NodeHandle& private_nh) {
   p.get("lio_frame", c.messages.lio_frame);
   p.get("body_frame", c.messages.body_frame);
   p.get("status_rate_hz", c.status_rate_hz);
+  p.get("lio_dropout_start_s", c.lio_dropout_start_s);
+  p.get("lio_dropout_duration_s", c.lio_dropout_duration_s);
   p.get("coverage_enabled", c.session.coverage_enabled);
   p.get("coverage_sample_spacing_m", c.session.coverage_sample_spacing_m);
   getSeed("seed", c.session.sim.seed);
@@ -67,6 +69,8 @@ MarsimNodeConfig loadMarsimNodeConfig(const ros::NodeHandle& private_nh) {
   requireInRange("step_s", c.step_s, 1e-4, 0.1);
   requireInRange("max_duration_s", c.max_duration_s, 0.0, 1e6);
   requireInRange("status_rate_hz", c.status_rate_hz, 0.1, 1000.0);
+  requireInRange("lio_dropout_start_s", c.lio_dropout_start_s, 0.0, 1e6);
+  requireInRange("lio_dropout_duration_s", c.lio_dropout_duration_s, 0.0, 1e6);
   requireThat(!c.messages.lio_frame.empty() && !c.messages.body_frame.empty(), "lio_frame",
               "frames must not be empty");
   c.session.validate();
@@ -126,7 +130,23 @@ void MarsimNode::publishOutputs(double wall_elapsed_s) {
     c.clock = now;
     clock_pub_.publish(c);
   }
-  if (auto odom = lio_messages_.newOdometry(*sim_)) {
+  const bool lio_silent = config_.lio_dropout_duration_s > 0.0 &&
+                          t >= config_.lio_dropout_start_s &&
+                          t < config_.lio_dropout_start_s + config_.lio_dropout_duration_s;
+  if (lio_silent != dropout_reported_) {
+    dropout_reported_ = lio_silent;
+    ROS_WARN("marsim_node: fault injection: LIO output %s at t = %.2f s",
+             lio_silent ? "silent" : "back", t);
+  }
+  // During a dropout the messages are still produced (their sequence moves on) and discarded.
+  auto odom = lio_messages_.newOdometry(*sim_);
+  auto scan = lio_messages_.newScan(*sim_);
+  if (odom) truth_pub_.publish(lio_messages_.groundTruth(*sim_));
+  if (lio_silent) {
+    odom.reset();
+    scan.reset();
+  }
+  if (odom) {
     odom_pub_.publish(*odom);
     // FAST-LIO2 broadcasts the same pose on TF (camera_init -> body).
     geometry_msgs::TransformStamped tf;
@@ -137,9 +157,8 @@ void MarsimNode::publishOutputs(double wall_elapsed_s) {
     tf.transform.translation.z = odom->pose.pose.position.z;
     tf.transform.rotation = odom->pose.pose.orientation;
     tf_broadcaster_.sendTransform(tf);
-    truth_pub_.publish(lio_messages_.groundTruth(*sim_));
   }
-  if (auto scan = lio_messages_.newScan(*sim_)) cloud_pub_.publish(*scan);
+  if (scan) cloud_pub_.publish(*scan);
   if (sim_->collided() && !collision_reported_) {
     collision_reported_ = true;
     const auto& c = *sim_->collision();

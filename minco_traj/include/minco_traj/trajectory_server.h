@@ -86,6 +86,17 @@ class TrajectoryServer {
   /// Reference at time_s; holds the end point after the trajectory ends.
   ReferenceSample sample(double time_s) const;
 
+  /// Odometry lost: from time_s on the reference slows down *along the current trajectory* (its
+  /// time is warped, its rate falling linearly from 1 to 0 at the emergency deceleration) and
+  /// stops on it. The path was checked free; a straight-line brake from a curve can leave it
+  /// (seen: a cave wall hit 2 s into a LIO dropout). Nothing is replanned meanwhile. No-op
+  /// without a trajectory or when already holding.
+  void holdAlongPath(double time_s);
+  /// Odometry is back: the reference continues from the held state (a brake to rest if it was
+  /// still moving) and the goal is replanned on the next update().
+  void resumeFromHold(double time_s);
+  bool holdingAlongPath() const { return warp_.has_value(); }
+
   /// The newest trajectory (nullptr before the first one) and its start time.
   const Trajectory* current() const { return current_ ? &*current_ : nullptr; }
   double currentStart_s() const { return current_start_s_; }
@@ -106,6 +117,16 @@ class TrajectoryServer {
   /// recenter_distance_m from the window centre.
   void followWith(const Eigen::Vector3d& p_world_m, bool may_move);
   std::optional<ReferenceSample> referenceAt(double time_s) const;
+  std::optional<ReferenceSample> unwarpedReferenceAt(double time_s) const;
+  double holdDecel() const;
+
+  /// Time warp of holdAlongPath: reference(t) = trajectory(tau(t)), tau(t0) = t0, the rate
+  /// dtau/dt = max(0, 1 - (t - t0) / stop_s).
+  struct Warp {
+    double t0_s = 0.0;
+    double stop_s = 0.0;
+  };
+  std::optional<Warp> warp_;
 
   TrajectoryServerConfig cfg_;
   LocalGrid grid_;

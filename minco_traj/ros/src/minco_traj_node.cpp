@@ -124,6 +124,10 @@ void MincoTrajNode::onTimer(const ros::TimerEvent&) {
   const ros::Time now = ros::Time::now();
   const double t = now.toSec();
   if (state_ && (now - state_stamp_).toSec() <= config_.odom_timeout_s) {
+    if (server_.holdingAlongPath()) {
+      server_.resumeFromHold(t);
+      ROS_WARN("minco_traj: %s", server_.lastMessage().c_str());
+    }
     const ServerEvent e = server_.update(t, *state_);
     if (e == ServerEvent::kReplanned || e == ServerEvent::kEmergencyStop) publishTrajectory(now, e);
     if (e == ServerEvent::kEmergencyStop)
@@ -134,6 +138,11 @@ void MincoTrajNode::onTimer(const ros::TimerEvent&) {
       goal_reached_ = true;
       ROS_INFO("minco_traj: %s", server_.lastMessage().c_str());
     }
+  } else if (state_ && !server_.holdingAlongPath() && server_.current()) {
+    // Odometry lost in flight: the reference stops on the checked path instead of running on.
+    server_.holdAlongPath(t);
+    ROS_WARN("minco_traj: no odometry for %.2f s: %s", (now - state_stamp_).toSec(),
+             server_.lastMessage().c_str());
   } else if (server_.goal()) {
     ROS_WARN_THROTTLE(1.0, "minco_traj: no recent odometry; not replanning");
   }

@@ -63,13 +63,24 @@ struct Se3ControllerConfig {
   // Safety.
   double odom_timeout_s = 0.2;
   double command_timeout_s = 0.5;
-  /// Odometry lost in flight: first brake open-loop against the last measured horizontal
-  /// velocity at this deceleration (dead reckoning, as a flight controller's failsafe would), so
-  /// that a vehicle at 4 m/s stops within about 2.7 m instead of drifting on; 0 = no braking.
-  double brake_accel_mps2 = 3.0;
+  /// Odometry lost while the reference is still fresh (minco_traj then stops it along its
+  /// checked path): follow it feed-forward only, from where the vehicle last was on it, for at
+  /// most this long. 0 = never (straight to the brake below).
+  double feedforward_on_odometry_loss_s = 5.0;
+  /// Meanwhile the state is dead-reckoned from the commanded acceleration, which the vehicle
+  /// reaches with this first-order lag (attitude loop), and fed back as odometry would be.
+  double dead_reckoning_lag_s = 0.15;
+  /// Odometry lost without a usable reference: first brake open-loop against the last measured
+  /// horizontal velocity at this deceleration (dead reckoning, as a flight controller's failsafe
+  /// would), so that a vehicle at 4 m/s stops within about 2 m instead of drifting on; 0 = no
+  /// braking.
+  double brake_accel_mps2 = 4.0;
   /// The tilt builds up and relaxes over the attitude loop's response time, so the brake is held
   /// this much longer than |v| / brake_accel to take out the speed lost meanwhile.
   double brake_attitude_lag_s = 0.15;
+  /// After the brake the vehicle holds its height this long before the gentle descent starts: a
+  /// LIO stall of a few seconds (degenerate geometry) must not put it on a cave floor (seen).
+  double descent_delay_s = 3.0;
   double descent_accel_mps2 = 0.5;  ///< open-loop descent: accelerate down at this ...
   double descent_speed_mps = 0.5;   ///< ... until this speed, then hold the thrust at hover
   // Hover throttle (normalised thrust in [0, 1] that holds the vehicle at 1 g).
@@ -105,7 +116,8 @@ struct AttitudeTargetOut {
 enum class ControlMode {
   kTracking,      ///< following the reference
   kHoldPosition,  ///< reference stale or invalid: hovering at the latched position
-  kLevelDescend,  ///< odometry stale: brake against the last velocity, then level, gentle descent
+  kFeedForward,   ///< odometry stale, reference fresh: following it on a dead-reckoned state
+  kLevelDescend,  ///< odometry stale: brake against the last velocity, level, hold, then descend
   kNoOdometry     ///< nothing valid received yet: motors idle
 };
 const char* toString(ControlMode m);
@@ -169,6 +181,13 @@ class Se3Controller {
   Eigen::Vector3d hold_position_ = Eigen::Vector3d::Zero();
   double hold_yaw_ = 0.0;
   bool descending_ = false;
+  // Dead reckoning while odometry is stale (kFeedForward).
+  bool reckoning_ = false;
+  double reckoning_stamp_s_ = 0.0;
+  Eigen::Vector3d reckoned_p_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d reckoned_v_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d reckoned_a_ = Eigen::Vector3d::Zero();  ///< lagged commanded acceleration
+  Eigen::Vector3d last_accel_cmd_ = Eigen::Vector3d::Zero();
   double descent_start_s_ = 0.0;
   Eigen::Vector2d brake_velocity_mps_ = Eigen::Vector2d::Zero();  ///< at the onset of the descent
   double hover_throttle_ = 0.5;

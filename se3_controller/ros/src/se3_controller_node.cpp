@@ -54,8 +54,11 @@ Se3ControllerNodeConfig loadSe3ControllerNodeConfig(const ros::NodeHandle& priva
   p.get("use_feedforward", k.use_feedforward);
   p.get("odom_timeout_s", k.odom_timeout_s);
   p.get("command_timeout_s", k.command_timeout_s);
+  p.get("feedforward_on_odometry_loss_s", k.feedforward_on_odometry_loss_s);
+  p.get("dead_reckoning_lag_s", k.dead_reckoning_lag_s);
   p.get("brake_accel_mps2", k.brake_accel_mps2);
   p.get("brake_attitude_lag_s", k.brake_attitude_lag_s);
+  p.get("descent_delay_s", k.descent_delay_s);
   p.get("descent_accel_mps2", k.descent_accel_mps2);
   p.get("descent_speed_mps", k.descent_speed_mps);
   p.get("hover_throttle_initial", k.hover_throttle_initial);

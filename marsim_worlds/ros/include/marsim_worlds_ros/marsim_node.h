@@ -26,6 +26,11 @@ struct MarsimNodeConfig {
   bool publish_clock = true;
   LioMessageConfig messages;  ///< frames and twist of the FAST-LIO2-shaped output
   double status_rate_hz = 10.0;
+  /// Fault injection: the LIO output (cloud_registered, Odometry and its TF) falls silent for
+  /// this long from `lio_dropout_start_s` of simulated time on, as when FAST-LIO2 stalls; the
+  /// vehicle flies on (ground truth and /clock keep coming). 0 s = no dropout.
+  double lio_dropout_start_s = 0.0;
+  double lio_dropout_duration_s = 0.0;
 };
 
 MarsimNodeConfig loadMarsimNodeConfig(const ros::NodeHandle& private_nh);
@@ -50,6 +55,7 @@ class MarsimNode {
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   double next_status_s_ = 0.0;
   bool collision_reported_ = false;
+  bool dropout_reported_ = false;
 };
 
 }  // namespace efs::sim

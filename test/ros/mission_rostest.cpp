@@ -1,0 +1,192 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// A whole exploration through sim_explore.launch, every node really started, flown until the
+// planner says it is finished: the run must reach the coverage goal within its simulated time
+// limit and never touch the world. The launch file chooses the world, the sketch (precise, none,
+// or one of another place) and faults; private parameters of this test say what to expect:
+//   ~min_coverage          ground-truth coverage required at the end (paper protocol: 0.95)
+//   ~sim_time_limit_s      simulated seconds the exploration may take
+//   ~wall_time_limit_s     wall seconds before the test gives up waiting
+//   ~lio_dropout_start_s   if > 0: a LIO dropout injected at this simulated time (marsim_node's
+//   ~lio_dropout_duration_s  fault injection) must be seen as STALE by lio_bridge, the vehicle
+//                          must slow down to a hold meanwhile, and the mission must carry on.
+//   ~expect_no_hypothesis  a sketch of another place: registration must never report a
+//                          hypothesis (its status says why).
+#include <explore_from_sketch/ExplorationStatus.h>
+#include <explore_from_sketch/LioStatus.h>
+#include <explore_from_sketch/RegistrationHypotheses.h>
+#include <explore_from_sketch/SimulatorStatus.h>
+#include <gtest/gtest.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+
+#include <algorithm>
+#include <mutex>
+#include <string>
+
+#include "ros_test_utils.h"
+
+namespace {
+
+using efs::rostest::waitForMessage;
+using explore_from_sketch::ExplorationStatus;
+using explore_from_sketch::LioStatus;
+using explore_from_sketch::RegistrationHypotheses;
+using explore_from_sketch::SimulatorStatus;
+
+struct Expectations {
+  double min_coverage = 0.95;
+  double sim_time_limit_s = 300.0;
+  double wall_time_limit_s = 400.0;
+  double lio_dropout_start_s = 0.0;
+  double lio_dropout_duration_s = 0.0;
+  bool expect_no_hypothesis = false;
+};
+
+Expectations readExpectations() {
+  ros::NodeHandle p("~");
+  Expectations e;
+  p.param("min_coverage", e.min_coverage, e.min_coverage);
+  p.param("sim_time_limit_s", e.sim_time_limit_s, e.sim_time_limit_s);
+  p.param("wall_time_limit_s", e.wall_time_limit_s, e.wall_time_limit_s);
+  p.param("lio_dropout_start_s", e.lio_dropout_start_s, e.lio_dropout_start_s);
+  p.param("lio_dropout_duration_s", e.lio_dropout_duration_s, e.lio_dropout_duration_s);
+  p.param("expect_no_hypothesis", e.expect_no_hypothesis, e.expect_no_hypothesis);
+  return e;
+}
+
+/// Everything the test watches, filled by subscriber callbacks (AsyncSpinner thread).
+class MissionWatch {
+ public:
+  MissionWatch(ros::NodeHandle& nh, const Expectations& e) : e_(e) {
+    subs_.push_back(nh.subscribe("sim_status", 10, &MissionWatch::onSim, this));
+    subs_.push_back(nh.subscribe("exploration_status", 10, &MissionWatch::onExploration, this));
+    subs_.push_back(nh.subscribe("lio_status", 50, &MissionWatch::onLio, this));
+    subs_.push_back(nh.subscribe("hypotheses", 10, &MissionWatch::onHypotheses, this));
+    subs_.push_back(nh.subscribe("ground_truth/odom", 200, &MissionWatch::onTruth, this));
+  }
+
+  std::mutex mutex;
+  SimulatorStatus sim;
+  bool have_sim = false;
+  bool finished = false;
+  double finished_sim_time_s = 0.0;
+  uint8_t last_state = ExplorationStatus::STATE_INIT;
+  bool saw_stale = false;
+  double max_hypotheses = 0;
+  std::string last_registration_status;
+  // Ground-truth speed over the last fifth of the dropout (the hold) and distance after it.
+  double max_speed_late_in_dropout_mps = 0.0;
+  bool sampled_late_in_dropout = false;
+  double distance_at_dropout_end_m = -1.0;
+
+ private:
+  void onSim(const SimulatorStatus::ConstPtr& m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    sim = *m;
+    have_sim = true;
+    if (e_.lio_dropout_duration_s > 0.0 && distance_at_dropout_end_m < 0.0 &&
+        m->sim_time >= e_.lio_dropout_start_s + e_.lio_dropout_duration_s) {
+      distance_at_dropout_end_m = m->travelled_distance;
+    }
+  }
+  void onExploration(const ExplorationStatus::ConstPtr& m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    last_state = m->state;
+    if (m->state == ExplorationStatus::STATE_FINISHED && !finished) {
+      finished = true;
+      finished_sim_time_s = m->header.stamp.toSec();
+    }
+  }
+  void onLio(const LioStatus::ConstPtr& m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (m->health == LioStatus::STALE) saw_stale = true;
+  }
+  void onHypotheses(const RegistrationHypotheses::ConstPtr& m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    max_hypotheses = std::max<double>(max_hypotheses, m->hypotheses.size());
+    last_registration_status = m->status_text;
+  }
+  void onTruth(const nav_msgs::Odometry::ConstPtr& m) {
+    if (e_.lio_dropout_duration_s <= 0.0) return;
+    const double t = m->header.stamp.toSec();
+    const double late = e_.lio_dropout_start_s + 0.8 * e_.lio_dropout_duration_s;
+    if (t < late || t >= e_.lio_dropout_start_s + e_.lio_dropout_duration_s) return;
+    const auto& v = m->twist.twist.linear;
+    const double speed = std::hypot(v.x, v.y);
+    std::lock_guard<std::mutex> lock(mutex);
+    sampled_late_in_dropout = true;
+    max_speed_late_in_dropout_mps = std::max(max_speed_late_in_dropout_mps, speed);
+  }
+
+  Expectations e_;
+  std::vector<ros::Subscriber> subs_;
+};
+
+TEST(Mission, ExploresToTheCoverageGoalWithoutCollision) {
+  ros::NodeHandle nh;
+  const Expectations e = readExpectations();
+  MissionWatch watch(nh, e);
+  ASSERT_TRUE(waitForMessage<SimulatorStatus>(nh, "sim_status", 90.0)) << "no simulator";
+
+  const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(e.wall_time_limit_s);
+  double last_report_s = 0.0;
+  while (ros::ok() && ros::WallTime::now() < give_up) {
+    {
+      std::lock_guard<std::mutex> lock(watch.mutex);
+      if (watch.have_sim && watch.sim.sim_time >= last_report_s + 20.0) {
+        last_report_s = watch.sim.sim_time;
+        ROS_INFO("mission_rostest: t = %.0f s, coverage %.1f %%, %.0f m, planner state %d",
+                 watch.sim.sim_time, 100.0 * watch.sim.coverage, watch.sim.travelled_distance,
+                 watch.last_state);
+      }
+      if (watch.finished || watch.sim.collided || watch.sim.sim_time > e.sim_time_limit_s) break;
+    }
+    ros::WallDuration(0.1).sleep();
+  }
+  // The simulator's last status after the planner finished (coverage is counted there).
+  ros::WallDuration(0.5).sleep();
+  std::lock_guard<std::mutex> lock(watch.mutex);
+  const SimulatorStatus& s = watch.sim;
+  ROS_INFO("mission_rostest: ended at t = %.1f s: coverage %.1f %%, %.1f m, finished %d",
+           s.sim_time, 100.0 * s.coverage, s.travelled_distance, watch.finished);
+  EXPECT_FALSE(s.collided) << "collision at (" << s.collision_position.x << ", "
+                           << s.collision_position.y << ", " << s.collision_position.z << ")";
+  EXPECT_TRUE(watch.finished) << "the planner did not finish within " << e.sim_time_limit_s
+                              << " s of simulated time (t = " << s.sim_time << " s, state "
+                              << int(watch.last_state) << ")";
+  if (watch.finished) {
+    EXPECT_LE(watch.finished_sim_time_s, e.sim_time_limit_s);
+  }
+  EXPECT_GE(s.coverage, e.min_coverage) << "coverage at the end";
+  EXPECT_EQ(s.rejected_commands, 0u) << s.last_rejection;
+
+  if (e.lio_dropout_duration_s > 0.0) {
+    EXPECT_TRUE(watch.saw_stale) << "lio_bridge never reported the dropout as STALE";
+    ASSERT_TRUE(watch.sampled_late_in_dropout) << "no ground truth during the dropout";
+    // Dead reckoning stops it on its path; what is left after 1.6 s is its drift (0.6-0.85 m/s
+    // seen), against 2-4 m/s of cruise.
+    EXPECT_LT(watch.max_speed_late_in_dropout_mps, 1.0)
+        << "the vehicle did not slow to a hold during the LIO dropout";
+    ASSERT_GE(watch.distance_at_dropout_end_m, 0.0) << "the mission ended before the dropout did";
+    EXPECT_GT(s.travelled_distance, watch.distance_at_dropout_end_m + 5.0)
+        << "the vehicle did not carry on after the dropout";
+  }
+  if (e.expect_no_hypothesis) {
+    EXPECT_EQ(watch.max_hypotheses, 0.0)
+        << "a sketch of another place produced a hypothesis; last status: "
+        << watch.last_registration_status;
+    EXPECT_FALSE(watch.last_registration_status.empty()) << "registration never said why";
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "mission_rostest");
+  ros::NodeHandle nh;
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
