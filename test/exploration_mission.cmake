@@ -34,8 +34,3 @@ foreach(case precise no_sketch lio_dropout wrong_sketch)
     ENVIRONMENT "EFS_MISSION_INPUTS=${EFS_MISSION_INPUTS}"
     FIXTURES_REQUIRED mission_inputs TIMEOUT 480 RUN_SERIAL TRUE)
 endforeach()
-# Known failure, kept visible: 2 s of LIO dropout at 4 m/s in the cave. The reference stops on
-# its path and the controller dead-reckons, but the dead-reckoned state drifts (0.6-0.85 m/s
-# left after 1.6 s) and 3 of 5 runs touched the cave within the dropout. Run it by hand with
-# ctest -R mission_lio_dropout; re-enable when the controller has an IMU-aided prediction.
-set_tests_properties(rostest.mission_lio_dropout PROPERTIES DISABLED TRUE)

@@ -53,6 +53,13 @@ QuadrotorDynamics::QuadrotorDynamics(const QuadrotorConfig& config, const Quadro
   q_des_ = hover.q_world_body_des;
 }
 
+Eigen::Vector3d QuadrotorDynamics::specificForceBody() const {
+  const double m = config_.mass_kg;
+  return Eigen::Vector3d(0, 0, state_.thrust_N / m) -
+         state_.q_world_body.conjugate() *
+             ((config_.linear_drag_N_s_per_m / m) * state_.v_world_m_s);
+}
+
 SO3Command QuadrotorDynamics::hoverCommand() const {
   SO3Command c;
   c.force_world_N = Eigen::Vector3d(0, 0, config_.mass_kg * config_.gravity_m_s2);

@@ -26,6 +26,7 @@ void Se3ControllerConfig::validate() const {
   requireInRange("se3.command_timeout_s", command_timeout_s, 1e-3, 60.0);
   requireInRange("se3.feedforward_on_odometry_loss_s", feedforward_on_odometry_loss_s, 0.0, 60.0);
   requireInRange("se3.dead_reckoning_lag_s", dead_reckoning_lag_s, 0.0, 2.0);
+  requireInRange("se3.imu_max_age_s", imu_max_age_s, 0.0, 1.0);
   requireInRange("se3.brake_accel_mps2", brake_accel_mps2, 0.0, 0.8 * gravity_mps2);
   requireInRange("se3.brake_attitude_lag_s", brake_attitude_lag_s, 0.0, 2.0);
   requireInRange("se3.descent_delay_s", descent_delay_s, 0.0, 60.0);
@@ -222,6 +223,13 @@ ControlOutput Se3Controller::levelDescend(double now_s) {
   return out;
 }
 
+void Se3Controller::observeImu(const Eigen::Vector3d& a_world_mps2, double stamp_s) {
+  if (!a_world_mps2.allFinite() || !std::isfinite(stamp_s)) return;
+  have_imu_ = true;
+  imu_stamp_s_ = stamp_s;
+  imu_accel_world_ = a_world_mps2;
+}
+
 ControlOutput Se3Controller::update(const OdometryState& odom, const FlatReference& ref,
                                     double now_s) {
   if (!std::isfinite(now_s)) throw std::invalid_argument("Se3Controller::update: now_s not finite");
@@ -268,7 +276,13 @@ ControlOutput Se3Controller::update(const OdometryState& odom, const FlatReferen
     const double dt = std::max(0.0, now_s - reckoning_stamp_s_);
     const double blend =
         cfg_.dead_reckoning_lag_s > 0.0 ? 1.0 - std::exp(-dt / cfg_.dead_reckoning_lag_s) : 1.0;
-    reckoned_a_ += blend * (last_accel_cmd_ - reckoned_a_);
+    const bool imu_fresh =
+        have_imu_ && std::isfinite(imu_stamp_s_) && now_s - imu_stamp_s_ <= cfg_.imu_max_age_s;
+    if (imu_fresh) {
+      reckoned_a_ = imu_accel_world_;
+    } else {
+      reckoned_a_ += blend * (last_accel_cmd_ - reckoned_a_);
+    }
     reckoned_p_ += dt * reckoned_v_ + 0.5 * dt * dt * reckoned_a_;
     reckoned_v_ += dt * reckoned_a_;
     reckoning_stamp_s_ = now_s;

@@ -244,16 +244,9 @@ TEST(ClosedLoop, StaleOdometryInFastFlightBrakesToAStop) {
 namespace efs::control {
 namespace {
 
-// Odometry lost on a curve: the reference (as minco_traj serves it then) slows to a stop along
-// a 5 m-radius arc; followed feed-forward only, the vehicle stays on the arc.
-TEST(ClosedLoop, LostOdometryFollowsACurvingStopOpenLoop) {
-  Se3ControllerConfig cfg;
-  cfg.dead_reckoning_lag_s = 0.05;  // this rigid body's attitude loop (marsim's is slower)
-  Se3Controller ctrl(cfg);
-  RigidBody body;
-  const double R = 5.0, v0 = 3.0, t_loss = 1.0, stop_s = 1.5;
-  // Arc length s(t): constant speed until the loss, then decelerating linearly to rest.
-  auto ref_at = [&](double t) {
+// A reference along a circle of radius R at z = 2 m: speed v0 until t_loss, then slowing
+// linearly to rest within stop_s (what minco_traj serves when odometry is lost on a curve).
+FlatReference curvingStop(double R, double v0, double t_loss, double stop_s, double t) {
     double s = v0 * t, sd = v0, sdd = 0.0;
     if (t > t_loss) {
       const double d = std::min(t - t_loss, stop_s);
@@ -268,17 +261,28 @@ TEST(ClosedLoop, LostOdometryFollowsACurvingStopOpenLoop) {
     r.p_world_m = Eigen::Vector3d(R * std::cos(th), R * std::sin(th), 2.0);
     r.v_world_mps = sd * T;
     r.a_world_mps2 = sdd * T + sd * sd / R * N;
-    r.yaw_rad = 0.0;
-    return r;
-  };
-  const FlatReference r0 = ref_at(0.0);
-  body.p = r0.p_world_m;
-  body.v = r0.v_world_mps;
+  return r;
+}
+
+struct CurvingStopRun {
+  double max_error_m = 0.0;
+  double final_speed_mps = 0.0;
+  bool feed_forward_after_timeout = true;  ///< every step past the odometry timeout
+};
+
+// Flies curvingStop(5 m, 3 m/s, loss at 1 s, stop in 1.5 s) with the odometry frozen from the
+// loss on; with_imu feeds the body's true acceleration to the controller at 100 Hz.
+CurvingStopRun flyCurvingStopOnFrozenOdometry(const Se3ControllerConfig& cfg, bool with_imu) {
+  const double R = 5.0, v0 = 3.0, t_loss = 1.0, stop_s = 1.5;
+  Se3Controller ctrl(cfg);
+  RigidBody body;
+  body.p = curvingStop(R, v0, t_loss, stop_s, 0.0).p_world_m;
+  body.v = curvingStop(R, v0, t_loss, stop_s, 0.0).v_world_mps;
+  CurvingStopRun run;
   OdometryState frozen;
   bool frozen_set = false;
-  double max_err = 0.0;
   for (double t = 0; t < t_loss + stop_s + 1.0; t += 0.01) {
-    const FlatReference r = ref_at(t);
+    const FlatReference r = curvingStop(R, v0, t_loss, stop_s, t);
     OdometryState o = body.odom(t);
     if (t >= t_loss) {
       if (!frozen_set) {
@@ -288,15 +292,44 @@ TEST(ClosedLoop, LostOdometryFollowsACurvingStopOpenLoop) {
       o = frozen;
     }
     const auto out = ctrl.update(o, r, t);
-    if (t > t_loss + ctrl.config().odom_timeout_s) {
-      EXPECT_EQ(out.mode, ControlMode::kFeedForward) << "t = " << t;
-    }
+    if (t > t_loss + ctrl.config().odom_timeout_s && out.mode != ControlMode::kFeedForward)
+      run.feed_forward_after_timeout = false;
+    const Eigen::Vector3d v_before = body.v;
     for (int k = 0; k < 20; ++k) body.step(out.so3, 0.0005);
-    max_err = std::max(max_err, (body.p - r.p_world_m).norm());
+    if (with_imu) ctrl.observeImu((body.v - v_before) / 0.01, t + 0.01);
+    run.max_error_m = std::max(run.max_error_m, (body.p - r.p_world_m).norm());
   }
-  EXPECT_LT(max_err, 0.3);
-  EXPECT_LT(body.v.norm(), 0.3);
+  run.final_speed_mps = body.v.norm();
+  return run;
+}
+
+// Odometry lost on a curve: the reference (as minco_traj serves it then) slows to a stop along
+// a 5 m-radius arc; followed feed-forward only, the vehicle stays on the arc.
+TEST(ClosedLoop, LostOdometryFollowsACurvingStopOpenLoop) {
+  Se3ControllerConfig cfg;
+  cfg.dead_reckoning_lag_s = 0.05;  // this rigid body's attitude loop (marsim's is slower)
+  const CurvingStopRun run = flyCurvingStopOnFrozenOdometry(cfg, false);
+  EXPECT_TRUE(run.feed_forward_after_timeout);
+  EXPECT_LT(run.max_error_m, 0.3);
+  EXPECT_LT(run.final_speed_mps, 0.3);
   // A straight-line brake from the loss point would have left the arc by more than a metre.
+}
+
+}  // namespace
+}  // namespace efs::control
+
+namespace efs::control {
+namespace {
+
+// The same curving stop with an IMU: integrating measured accelerations, dead reckoning no
+// longer depends on the lag model (set far off here) and the vehicle stays on the arc.
+TEST(ClosedLoop, LostOdometryWithAnImuFollowsTheStopDespiteAWrongLagModel) {
+  Se3ControllerConfig cfg;
+  cfg.dead_reckoning_lag_s = 0.6;  // badly wrong on purpose
+  const double worst[2] = {flyCurvingStopOnFrozenOdometry(cfg, false).max_error_m,
+                           flyCurvingStopOnFrozenOdometry(cfg, true).max_error_m};
+  EXPECT_LT(worst[1], 0.3);       // with the IMU
+  EXPECT_GT(worst[0], worst[1]);  // without it the wrong lag model shows
 }
 
 }  // namespace

@@ -162,11 +162,14 @@ TEST(Mission, ExploresToTheCoverageGoalWithoutCollision) {
   EXPECT_EQ(s.rejected_commands, 0u) << s.last_rejection;
 
   if (e.lio_dropout_duration_s > 0.0) {
+    ROS_INFO("mission_rostest: LIO dropout: max speed over its last fifth %.2f m/s",
+             watch.max_speed_late_in_dropout_mps);
     EXPECT_TRUE(watch.saw_stale) << "lio_bridge never reported the dropout as STALE";
     ASSERT_TRUE(watch.sampled_late_in_dropout) << "no ground truth during the dropout";
-    // Dead reckoning stops it on its path; what is left after 1.6 s is its drift (0.6-0.85 m/s
-    // seen), against 2-4 m/s of cruise.
-    EXPECT_LT(watch.max_speed_late_in_dropout_mps, 1.0)
+    // The reference stops on its path within v / a_max; the controller follows it on IMU dead
+    // reckoning, so by the last fifth of the dropout the vehicle has all but stopped (measured
+    // 0.39-0.46 m/s from a 2-4 m/s cruise; without the IMU it drifted on at 0.6-0.85 m/s).
+    EXPECT_LT(watch.max_speed_late_in_dropout_mps, 0.6)
         << "the vehicle did not slow to a hold during the LIO dropout";
     ASSERT_GE(watch.distance_at_dropout_end_m, 0.0) << "the mission ended before the dropout did";
     EXPECT_GT(s.travelled_distance, watch.distance_at_dropout_end_m + 5.0)

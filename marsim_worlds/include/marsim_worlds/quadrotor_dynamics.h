@@ -86,6 +86,9 @@ class QuadrotorDynamics {
 
   /// The command that holds the current attitude's yaw level in hover.
   SO3Command hoverCommand() const;
+  /// What an ideal accelerometer on the body measures now: the specific force (thrust and drag
+  /// over mass, gravity excluded) in the body frame; [0, 0, g] when hovering.
+  Eigen::Vector3d specificForceBody() const;
 
   /// Advances by `dt_s` (one RK4 step with the controller output held; callers keep dt small,
   /// the simulator uses its physics rate).

@@ -86,6 +86,8 @@ class Simulator {
   const Odometry& latestOdometry() const { return latest_odom_; }
   uint64_t odometrySeq() const { return odom_seq_; }
   const QuadrotorState& groundTruth() const { return quad_.state(); }
+  /// Ideal body accelerometer (specific force, body frame) at the current time.
+  Eigen::Vector3d imuSpecificForceBody() const { return quad_.specificForceBody(); }
   /// Sensor pose in the true world frame (for a TF tree or a test).
   Eigen::Isometry3d T_world_sensor() const;
   const Eigen::Isometry3d& T_est_world() const { return odom_model_.T_est_world(); }

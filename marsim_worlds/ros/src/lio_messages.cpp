@@ -46,6 +46,25 @@ nav_msgs::Odometry LioMessages::groundTruth(const Simulator& sim) const {
                        g.p_world_m, g.q_world_body, g.v_world_m_s, g.omega_body_rad_s, true);
 }
 
+sensor_msgs::Imu LioMessages::imu(const Simulator& sim) const {
+  const QuadrotorState& g = sim.groundTruth();
+  const Eigen::Vector3d f = sim.imuSpecificForceBody();
+  sensor_msgs::Imu m;
+  m.header.stamp = ros::Time(sim.time_s());
+  m.header.frame_id = config_.body_frame;
+  m.orientation.w = g.q_world_body.w();
+  m.orientation.x = g.q_world_body.x();
+  m.orientation.y = g.q_world_body.y();
+  m.orientation.z = g.q_world_body.z();
+  m.angular_velocity.x = g.omega_body_rad_s.x();
+  m.angular_velocity.y = g.omega_body_rad_s.y();
+  m.angular_velocity.z = g.omega_body_rad_s.z();
+  m.linear_acceleration.x = f.x();
+  m.linear_acceleration.y = f.y();
+  m.linear_acceleration.z = f.z();
+  return m;
+}
+
 std::optional<sensor_msgs::PointCloud2> LioMessages::newScan(const Simulator& sim) {
   const ScanFrame& scan = sim.latestScan();
   if (scan.seq == 0 || scan.seq == last_scan_seq_) return std::nullopt;

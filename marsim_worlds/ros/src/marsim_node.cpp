@@ -89,6 +89,7 @@ MarsimNode::MarsimNode(ros::NodeHandle nh, const MarsimNodeConfig& config)
   cloud_pub_ = nh.advertise<sensor_msgs::PointCloud2>(topics::kCloudRegistered, 5);
   odom_pub_ = nh.advertise<nav_msgs::Odometry>(topics::kOdometry, 100);
   truth_pub_ = nh.advertise<nav_msgs::Odometry>(topics::kGroundTruth, 100);
+  imu_pub_ = nh.advertise<sensor_msgs::Imu>(topics::kImu, 100);
   status_pub_ = nh.advertise<explore_from_sketch::SimulatorStatus>(topics::kStatus, 10);
   if (config_.publish_clock) clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
   so3_sub_ = nh.subscribe(topics::kSo3Command, 10, &MarsimNode::onSo3, this);
@@ -141,7 +142,11 @@ void MarsimNode::publishOutputs(double wall_elapsed_s) {
   // During a dropout the messages are still produced (their sequence moves on) and discarded.
   auto odom = lio_messages_.newOdometry(*sim_);
   auto scan = lio_messages_.newScan(*sim_);
-  if (odom) truth_pub_.publish(lio_messages_.groundTruth(*sim_));
+  if (odom) {
+    // The IMU is not part of the LIO output: it keeps coming through a LIO dropout.
+    truth_pub_.publish(lio_messages_.groundTruth(*sim_));
+    imu_pub_.publish(lio_messages_.imu(*sim_));
+  }
   if (lio_silent) {
     odom.reset();
     scan.reset();

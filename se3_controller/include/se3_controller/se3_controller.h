@@ -70,6 +70,8 @@ struct Se3ControllerConfig {
   /// Meanwhile the state is dead-reckoned from the commanded acceleration, which the vehicle
   /// reaches with this first-order lag (attitude loop), and fed back as odometry would be.
   double dead_reckoning_lag_s = 0.15;
+  /// An IMU acceleration (observeImu) younger than this is integrated instead of that model.
+  double imu_max_age_s = 0.05;
   /// Odometry lost without a usable reference: first brake open-loop against the last measured
   /// horizontal velocity at this deceleration (dead reckoning, as a flight controller's failsafe
   /// would), so that a vehicle at 4 m/s stops within about 2 m instead of drifting on; 0 = no
@@ -166,6 +168,9 @@ class Se3Controller {
   void observeAcceleration(const Eigen::Vector3d& a_world_mps2,
                            const Eigen::Quaterniond& q_world_body, double dt_s);
   double hoverThrottle() const { return hover_throttle_; }
+  /// The latest IMU acceleration (world frame, gravity removed) at stamp_s (the clock of
+  /// update()): dead reckoning through an odometry loss integrates it while it is recent.
+  void observeImu(const Eigen::Vector3d& a_world_mps2, double stamp_s);
   void reset();
 
  private:
@@ -188,6 +193,9 @@ class Se3Controller {
   Eigen::Vector3d reckoned_v_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d reckoned_a_ = Eigen::Vector3d::Zero();  ///< lagged commanded acceleration
   Eigen::Vector3d last_accel_cmd_ = Eigen::Vector3d::Zero();
+  bool have_imu_ = false;
+  double imu_stamp_s_ = 0.0;
+  Eigen::Vector3d imu_accel_world_ = Eigen::Vector3d::Zero();
   double descent_start_s_ = 0.0;
   Eigen::Vector2d brake_velocity_mps_ = Eigen::Vector2d::Zero();  ///< at the onset of the descent
   double hover_throttle_ = 0.5;

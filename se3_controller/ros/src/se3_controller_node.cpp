@@ -56,6 +56,7 @@ Se3ControllerNodeConfig loadSe3ControllerNodeConfig(const ros::NodeHandle& priva
   p.get("command_timeout_s", k.command_timeout_s);
   p.get("feedforward_on_odometry_loss_s", k.feedforward_on_odometry_loss_s);
   p.get("dead_reckoning_lag_s", k.dead_reckoning_lag_s);
+  p.get("imu_max_age_s", k.imu_max_age_s);
   p.get("brake_accel_mps2", k.brake_accel_mps2);
   p.get("brake_attitude_lag_s", k.brake_attitude_lag_s);
   p.get("descent_delay_s", k.descent_delay_s);
@@ -141,6 +142,7 @@ void Se3ControllerNode::onImu(const sensor_msgs::Imu::ConstPtr& msg) {
     const Eigen::Vector3d a_world =
         q.normalized() * f_body - config_.controller.gravity_mps2 * Eigen::Vector3d::UnitZ();
     if (dt > 0.0 && dt < 0.5) controller_.observeAcceleration(a_world, q.normalized(), dt);
+    controller_.observeImu(a_world, stamp.toSec());
   }
   last_imu_ = stamp;
 }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <nav_msgs/Odometry.h>
+#include <sensor_msgs/Imu.h>
 #include <sensor_msgs/PointCloud2.h>
 
 #include <optional>
@@ -35,6 +36,9 @@ class LioMessages {
   std::optional<nav_msgs::Odometry> newOdometry(const Simulator& sim);
   /// The ground-truth state at the simulator's current time (twist included).
   nav_msgs::Odometry groundTruth(const Simulator& sim) const;
+  /// The body IMU (as the Mid-360's built-in one or the flight controller's): orientation,
+  /// body rates and specific force, in body_frame; ideal (no noise or bias).
+  sensor_msgs::Imu imu(const Simulator& sim) const;
   /// The latest completed scan in the LIO frame, when new since the last call.
   std::optional<sensor_msgs::PointCloud2> newScan(const Simulator& sim);
   const LioMessageConfig& config() const { return config_; }

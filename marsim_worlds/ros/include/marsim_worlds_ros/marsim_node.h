@@ -50,7 +50,7 @@ class MarsimNode {
   SimulationSession session_;
   Simulator* sim_;  ///< session_'s simulator
   ros::Subscriber so3_sub_, attitude_sub_;
-  ros::Publisher cloud_pub_, odom_pub_, truth_pub_, status_pub_, clock_pub_;
+  ros::Publisher cloud_pub_, odom_pub_, truth_pub_, imu_pub_, status_pub_, clock_pub_;
   LioMessages lio_messages_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   double next_status_s_ = 0.0;

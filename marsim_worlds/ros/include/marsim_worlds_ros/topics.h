@@ -13,6 +13,7 @@ constexpr const char* kAttitudeTarget = "attitude_target";  // AttitudeTarget
 constexpr const char* kCloudRegistered = "cloud_registered";  // PointCloud2, LIO frame
 constexpr const char* kOdometry = "Odometry";                 // nav_msgs/Odometry, LIO frame
 constexpr const char* kGroundTruth = "ground_truth/odom";     // nav_msgs/Odometry, true state
+constexpr const char* kImu = "imu";                           // sensor_msgs/Imu, body frame
 constexpr const char* kStatus = "sim_status";                 // SimulatorStatus
 
 }  // namespace efs::sim::topics
