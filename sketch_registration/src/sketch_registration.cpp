@@ -64,7 +64,7 @@ DescriptorConfig sketchDescriptorConfig(const SketchRegistrationConfig& c) {
 
 DescriptorConfig observationDescriptorConfig(const SketchRegistrationConfig& c) {
   DescriptorConfig d = c.descriptor;
-  d.point_radius_m = std::max(c.descriptor.point_radius_m, 0.5 * c.observation.descriptor_voxel_m);
+  d.point_radius_m = std::max(c.descriptor.point_radius_m, 0.5 * c.observation.column_cell_m);
   return d;
 }
 
@@ -159,19 +159,18 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
   last_time_s_ = time_s;
   last_robot_m_ = robot_xy;
 
-  const ObservationConfig& oc = config_.observation;
-  const ProjectedMap desc_map =
-      projectLocalMap(local_map_world_m, robot_world_m, oc.slice_min_dz_m, oc.slice_max_dz_m,
-                      config_.descriptor.max_range_m, oc.descriptor_voxel_m);
-  diag.descriptor_points = desc_map.points_m.size();
+  // One observation for both consumers (observation.h).
+  const Observation obs = observe(local_map_world_m, robot_world_m, config_.observation,
+                                  config_.descriptor.max_range_m);
+  diag.descriptor_points = obs.descriptor_m.size();
   const DescriptorConfig odc = observationDescriptorConfig(config_);
-  diag.descriptor = computeGeoContext(desc_map.points_m, robot_xy, odc);
+  diag.descriptor = computeGeoContext(obs.descriptor_m, robot_xy, odc);
   result_.last_frame = diag;
   if (!diag.descriptor.valid) {
     std::ostringstream os;
-    os << "local map unusable: " << desc_map.num_input << " points, " << desc_map.num_non_finite
-       << " non-finite, " << desc_map.num_in_band
-       << " in the height band within range; frame ignored";
+    os << "local map unusable: " << obs.map.num_input << " points, " << obs.map.num_non_finite
+       << " non-finite, " << obs.map.num_in_band << " in the height band within range, "
+       << obs.descriptor_m.size() << " observation points in the descriptor range; frame ignored";
     return fail(RegistrationStatus::kBadInput, os.str());
   }
 
@@ -181,11 +180,9 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
   diag.representatives = verifier_.representatives().size();
   result_.frames_used = verifier_.numFrames();
 
-  const ProjectedMap icp_map = projectLocalMap(local_map_world_m, robot_world_m, oc.slice_min_dz_m,
-                                               oc.slice_max_dz_m, oc.icp_range_m, oc.icp_voxel_m);
-  const Points2d icp_points = thinEvenly(icp_map.points_m, static_cast<size_t>(oc.icp_max_points));
+  const Points2d& icp_points = obs.icp_m;
   diag.icp_points = icp_points.size();
-  PointKdTree2d::Points dense(icp_map.points_m.begin(), icp_map.points_m.end());
+  PointKdTree2d::Points dense(obs.icp_dense_m.begin(), obs.icp_dense_m.end());
   const PointKdTree2d dense_tree(std::move(dense));
   const ObservedIndex observed{&dense_tree, robot_xy};
   updateHypotheses(icp_points, observed, diag);
