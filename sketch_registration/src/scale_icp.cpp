@@ -197,6 +197,7 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
       r.inlier_ratio = std::min(fwd.second, rev.second);
     }
   }
+  r.usable = true;
   r.valid = r.inlier_ratio >= config_.min_inlier_ratio;
   return r;
 }
@@ -301,6 +302,7 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
       (T.scale <= config_.scale_min * (1.0 + kScaleBoundTolerance) ||
        T.scale >= config_.scale_max * (1.0 - kScaleBoundTolerance))) {
     out.valid = false;
+    out.usable = false;
     out.scale_at_bound = true;
   }
   return out;

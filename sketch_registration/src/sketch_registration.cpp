@@ -38,6 +38,10 @@ void SketchRegistrationConfig::validate() const {
   requireInRange("scale_tolerance_factor", scale_tolerance_factor, 1.0, 1e3);
   requireInRange("sketch_point_radius_m", sketch_point_radius_m, 0.0, 100.0);
   requirePositive("fitness_threshold_m", fitness_threshold_m);
+  requireThat(kept_fitness_threshold_m >= fitness_threshold_m, "kept_fitness_threshold_m",
+              "must be >= fitness_threshold_m (a kept hypothesis is held to a looser bound)");
+  requireThat(kept_min_inlier_ratio >= 0.0 && kept_min_inlier_ratio <= icp.min_inlier_ratio,
+              "kept_min_inlier_ratio", "must be in [0, min_inlier_ratio]");
   requireInRange("confidence_tau", confidence_tau, 0.0, 1e3);
   requirePositive("max_speed_mps", max_speed_mps);
   requireInRange("max_icp_inputs", max_icp_inputs, 1, 100000);
@@ -289,7 +293,10 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
     const IcpResult r = icp_->refine(
         in.T, icp_points, in.id ? 1.5 * config_.icp.min_correspondence_m : 0.0, &observed);
     ++diag.icp_runs;
-    if (!r.valid || !(r.fitness_m <= config_.fitness_threshold_m)) {
+    const double max_fitness =
+        in.id ? config_.kept_fitness_threshold_m : config_.fitness_threshold_m;
+    const double min_inliers = in.id ? config_.kept_min_inlier_ratio : config_.icp.min_inlier_ratio;
+    if (!r.usable || !(r.inlier_ratio >= min_inliers) || !(r.fitness_m <= max_fitness)) {
       if (!in.id) rejected_.push_back({in.T, frame_counter_});
       continue;
     }

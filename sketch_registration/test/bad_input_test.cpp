@@ -161,6 +161,12 @@ TEST(BadInput, ConfigValidationNamesTheKey) {
   c.observation.wall_min_height_m = std::numeric_limits<double>::quiet_NaN();
   expectKey(c, "wall_min_height_m");
   c = {};
+  c.kept_fitness_threshold_m = 0.5 * c.fitness_threshold_m;
+  expectKey(c, "kept_fitness_threshold_m");
+  c = {};
+  c.kept_min_inlier_ratio = c.icp.min_inlier_ratio + 0.1;
+  expectKey(c, "kept_min_inlier_ratio");
+  c = {};
   c.icp.max_iterations = 0;
   expectKey(c, "max_iterations");
   // The constructor validates too.

@@ -210,6 +210,8 @@ TEST(EndToEnd, SketchOfAnotherPlaceYieldsNoHypothesis) {
       syn::makeScenario(garage, solids, lo, Vector2d(90, 70), Sim2(), {{4, 4}, {8, 4}});
   SketchRegistration reg(SketchRegistration::Config{}, other.sketch_points_m, other.candidates_m);
   const ScenarioRun run = runScenario(office, reg);
+  // Not even for one frame: the looser bounds for kept hypotheses must not let one in.
+  for (const RegistrationStatus s : run.statuses) EXPECT_NE(s, RegistrationStatus::kOk);
   EXPECT_TRUE(run.last.hypotheses.empty());
   EXPECT_TRUE(run.last.status == RegistrationStatus::kNoConsistentTriplet ||
               run.last.status == RegistrationStatus::kAllRejectedByFitness)

@@ -588,6 +588,8 @@ Options parse(int argc, char** argv) {
                         "slice-min-dz-m",
                         "slice-max-dz-m",
                         "wall-columns",
+                        "kept-fitness-threshold-m",
+                        "kept-min-inlier-ratio",
                         "column-cell-m",
                         "wall-min-height-m",
                         "wall-max-gap-m",
@@ -630,6 +632,10 @@ Options parse(int argc, char** argv) {
       args.number("slice-min-dz-m", o.registration.observation.slice_min_dz_m);
   o.registration.observation.slice_max_dz_m =
       args.number("slice-max-dz-m", o.registration.observation.slice_max_dz_m);
+  o.registration.kept_fitness_threshold_m =
+      args.number("kept-fitness-threshold-m", o.registration.kept_fitness_threshold_m);
+  o.registration.kept_min_inlier_ratio =
+      args.number("kept-min-inlier-ratio", o.registration.kept_min_inlier_ratio);
   o.registration.observation.wall_columns =
       args.integer("wall-columns", o.registration.observation.wall_columns ? 1 : 0) != 0;
   o.registration.observation.column_cell_m =

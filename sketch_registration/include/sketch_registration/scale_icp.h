@@ -69,7 +69,8 @@ struct IcpResult {
   double reverse_fitness_m = 0.0;  ///< visible sketch -> observation (0 when not evaluated)
   int iterations = 0;
   int num_points = 0;           ///< observed points used
-  bool valid = false;           ///< enough points and inliers, scale not pinned to a bound
+  bool valid = false;           ///< usable and inlier_ratio >= min_inlier_ratio
+  bool usable = false;          ///< enough observed points inside the sketch, scale not pinned
   bool scale_at_bound = false;  ///< refine() ended on scale_min or scale_max
 };
 
