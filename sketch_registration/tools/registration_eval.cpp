@@ -590,6 +590,7 @@ Options parse(int argc, char** argv) {
                         "wall-columns",
                         "kept-fitness-threshold-m",
                         "kept-min-inlier-ratio",
+                        "inlier-distance-m",
                         "column-cell-m",
                         "wall-min-height-m",
                         "wall-max-gap-m",
@@ -634,6 +635,8 @@ Options parse(int argc, char** argv) {
       args.number("slice-max-dz-m", o.registration.observation.slice_max_dz_m);
   o.registration.kept_fitness_threshold_m =
       args.number("kept-fitness-threshold-m", o.registration.kept_fitness_threshold_m);
+  o.registration.icp.inlier_distance_m =
+      args.number("inlier-distance-m", o.registration.icp.inlier_distance_m);
   o.registration.kept_min_inlier_ratio =
       args.number("kept-min-inlier-ratio", o.registration.kept_min_inlier_ratio);
   o.registration.observation.wall_columns =
