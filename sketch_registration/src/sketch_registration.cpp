@@ -191,6 +191,9 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
   const ObservedIndex observed{&dense_tree, robot_xy};
   updateHypotheses(icp_points, observed, diag);
   result_.last_frame = diag;
+  // No transform survived the fitness test: whatever tracks the verifier still follows are not
+  // registrations, so the next frame seeds fresh triplets as well.
+  if (live_.empty()) verifier_.requestReseed();
 
   result_.hypotheses.clear();
   result_.mirrored_hypotheses.clear();
