@@ -37,6 +37,7 @@ MultiFrameVerifier::MultiFrameVerifier(const VerifierConfig& config)
 }
 
 void MultiFrameVerifier::reset() {
+  reseed_requested_ = false;
   frames_.clear();
   tracks_.clear();
   representatives_.clear();
@@ -255,9 +256,10 @@ bool MultiFrameVerifier::addFrame(const Eigen::Vector2d& p_world,
       for (int i = 0; i < m; ++i) earlier[static_cast<size_t>(i)] = i;
       std::shuffle(earlier.begin(), earlier.end(), rng_);
       getPotTran(earlier[0], earlier[1], m);
-    } else if (tracks_.empty() && config_.reseed_when_empty) {
+    } else if ((tracks_.empty() && config_.reseed_when_empty) || reseed_requested_) {
       getPotTran(m - 2, m - 1, m);
     }
+    reseed_requested_ = false;
   }
   cluster();
   return true;

@@ -1,8 +1,11 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include "sketch_registration/observation.h"
 
+#include <algorithm>
 #include <cmath>
+#include <unordered_map>
 #include <unordered_set>
+#include <vector>
 
 #include "efs_common/config_check.h"
 
@@ -12,18 +15,34 @@ void ObservationConfig::validate() const {
   requireThat(std::isfinite(slice_min_dz_m) && std::isfinite(slice_max_dz_m) &&
                   slice_min_dz_m < slice_max_dz_m,
               "slice_min_dz_m", "must be finite and < slice_max_dz_m");
-  requirePositive("descriptor_voxel_m", descriptor_voxel_m);
+  requireInRange("column_cell_m", column_cell_m, 0.01, 10.0);
+  requireInRange("wall_min_height_m", wall_min_height_m, 0.0, 100.0);
+  requireInRange("wall_max_gap_m", wall_max_gap_m, 0.01, 100.0);
   requirePositive("icp_voxel_m", icp_voxel_m);
   requirePositive("icp_range_m", icp_range_m);
   requireInRange("icp_max_points", icp_max_points, 10, 10000000);
 }
 
-ProjectedMap projectLocalMap(const Points3d& local_map, const Eigen::Vector3d& robot,
-                             double min_dz_m, double max_dz_m, double range_m, double voxel_m) {
+namespace {
+long long cellKey(const Eigen::Vector2d& d, double cell_m) {
+  const long long ix = static_cast<long long>(std::floor(d.x() / cell_m));
+  const long long iy = static_cast<long long>(std::floor(d.y() / cell_m));
+  return (ix << 32) ^ (iy & 0xffffffffLL);
+}
+
+struct Column {
+  Eigen::Vector2d sum_m = Eigen::Vector2d::Zero();
+  std::vector<float> z_m;
+};
+}  // namespace
+
+ProjectedMap observeLocalMap(const Points3d& local_map, const Eigen::Vector3d& robot,
+                             const ObservationConfig& config, double range_m) {
   ProjectedMap out;
   out.num_input = local_map.size();
-  std::unordered_set<long long> seen;
-  seen.reserve(local_map.size() / 4 + 16);
+  std::unordered_map<long long, size_t> index;
+  index.reserve(local_map.size() / 4 + 16);
+  std::vector<Column> columns;
   const double r2 = range_m * range_m;
   for (const auto& p : local_map) {
     if (!p.allFinite()) {
@@ -31,13 +50,47 @@ ProjectedMap projectLocalMap(const Points3d& local_map, const Eigen::Vector3d& r
       continue;
     }
     const double dz = p.z() - robot.z();
-    if (dz < min_dz_m || dz > max_dz_m) continue;
+    if (dz < config.slice_min_dz_m || dz > config.slice_max_dz_m) continue;
     const Eigen::Vector2d d = p.head<2>() - robot.head<2>();
     if (d.squaredNorm() > r2) continue;
     ++out.num_in_band;
-    const long long ix = static_cast<long long>(std::floor(d.x() / voxel_m));
-    const long long iy = static_cast<long long>(std::floor(d.y() / voxel_m));
-    if (seen.insert((ix << 32) ^ (iy & 0xffffffffLL)).second) out.points_m.push_back(p.head<2>());
+    const auto [it, added] = index.emplace(cellKey(d, config.column_cell_m), columns.size());
+    if (added) columns.emplace_back();
+    Column& c = columns[it->second];
+    c.sum_m += p.head<2>();
+    c.z_m.push_back(static_cast<float>(p.z()));
+  }
+  out.num_columns = columns.size();
+  for (Column& c : columns) {
+    const Eigen::Vector2d centre = c.sum_m / static_cast<double>(c.z_m.size());
+    if (!config.wall_columns) {
+      out.points_m.push_back(centre);
+      continue;
+    }
+    std::sort(c.z_m.begin(), c.z_m.end());
+    double max_gap = 0.0;
+    for (size_t i = 1; i < c.z_m.size(); ++i) {
+      max_gap = std::max(max_gap, static_cast<double>(c.z_m[i] - c.z_m[i - 1]));
+    }
+    if (max_gap > config.wall_max_gap_m) {
+      ++out.num_passage_columns;
+      continue;
+    }
+    if (c.z_m.back() - c.z_m.front() >= config.wall_min_height_m) out.points_m.push_back(centre);
+  }
+  return out;
+}
+
+Points2d thinToGrid(const Points2d& points, const Eigen::Vector2d& centre, double range_m,
+                    double voxel_m) {
+  std::unordered_set<long long> seen;
+  seen.reserve(points.size() + 16);
+  Points2d out;
+  const double r2 = range_m * range_m;
+  for (const auto& p : points) {
+    const Eigen::Vector2d d = p - centre;
+    if (d.squaredNorm() > r2) continue;
+    if (seen.insert(cellKey(d, voxel_m)).second) out.push_back(p);
   }
   return out;
 }
@@ -49,6 +102,18 @@ Points2d thinEvenly(const Points2d& points, size_t max_points) {
   const double step = static_cast<double>(points.size()) / static_cast<double>(max_points);
   for (size_t i = 0; i < max_points; ++i) out.push_back(points[static_cast<size_t>(i * step)]);
   return out;
+}
+
+Observation observe(const Points3d& local_map, const Eigen::Vector3d& robot,
+                    const ObservationConfig& config, double descriptor_range_m) {
+  Observation o;
+  o.map =
+      observeLocalMap(local_map, robot, config, std::max(descriptor_range_m, config.icp_range_m));
+  const Eigen::Vector2d xy = robot.head<2>();
+  o.descriptor_m = thinToGrid(o.map.points_m, xy, descriptor_range_m, config.column_cell_m);
+  o.icp_dense_m = thinToGrid(o.map.points_m, xy, config.icp_range_m, config.icp_voxel_m);
+  o.icp_m = thinEvenly(o.icp_dense_m, static_cast<size_t>(config.icp_max_points));
+  return o;
 }
 
 }  // namespace efs::registration

@@ -32,6 +32,8 @@ void ScaleIcpConfig::validate() const {
   requireInRange("min_inside_ratio", min_inside_ratio, 0.0, 1.0);
   requireInRange("iteration_points", iteration_points, 0, 10000000);
   requireInRange("reverse_range_m", reverse_range_m, 0.0, 1e4);
+  requireInRange("reverse_extent_bins", reverse_extent_bins, 0, 100000);
+  requireInRange("reverse_extent_margin_m", reverse_extent_margin_m, 0.0, 1e4);
   requireInRange("coarse_yaw_steps", coarse_yaw_steps, 0, 100);
   requireInRange("coarse_yaw_step_rad", coarse_yaw_step_rad, 0.0, M_PI);
   requireInRange("coarse_scale_steps", coarse_scale_steps, 0, 100);
@@ -185,10 +187,32 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
     // Sketch points that the robot would see under T (HPR in the sketch frame, range mapped by
     // the scale) must have been observed.
     const Points2d visible = visibleSketch(T, reverse->robot_world_m);
+    const int bins = config_.reverse_extent_bins;
+    std::vector<double> extent(static_cast<size_t>(std::max(bins, 1)), 0.0);
+    const auto binOf = [&](const Eigen::Vector2d& d) {
+      const double a = std::atan2(d.y(), d.x()) + M_PI;
+      return std::min(bins - 1, static_cast<int>(a / (2.0 * M_PI) * bins));
+    };
+    if (bins > 0) {
+      for (const auto& o : reverse->tree->points()) {
+        const Eigen::Vector2d d = o - reverse->robot_world_m;
+        double& e = extent[static_cast<size_t>(binOf(d))];
+        e = std::max(e, d.norm());
+      }
+    }
     std::vector<double> dr;
     dr.reserve(visible.size());
     for (const auto& c : visible) {
-      dr.push_back(std::sqrt(reverse->tree->nearest(T.apply(c)).second));
+      const Eigen::Vector2d w = T.apply(c);
+      if (bins > 0) {
+        const Eigen::Vector2d d = w - reverse->robot_world_m;
+        const int b = binOf(d);
+        const double reach =
+            std::max({extent[static_cast<size_t>((b + bins - 1) % bins)],
+                      extent[static_cast<size_t>(b)], extent[static_cast<size_t>((b + 1) % bins)]});
+        if (d.norm() > reach + config_.reverse_extent_margin_m) continue;
+      }
+      dr.push_back(std::sqrt(reverse->tree->nearest(w).second));
     }
     if (static_cast<int>(dr.size()) >= config_.min_points) {
       const auto rev = trimmedMean(dr, config_.fitness_trim_ratio, config_.inlier_distance_m);
@@ -197,6 +221,7 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
       r.inlier_ratio = std::min(fwd.second, rev.second);
     }
   }
+  r.usable = true;
   r.valid = r.inlier_ratio >= config_.min_inlier_ratio;
   return r;
 }
@@ -301,6 +326,7 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
       (T.scale <= config_.scale_min * (1.0 + kScaleBoundTolerance) ||
        T.scale >= config_.scale_max * (1.0 - kScaleBoundTolerance))) {
     out.valid = false;
+    out.usable = false;
     out.scale_at_bound = true;
   }
   return out;

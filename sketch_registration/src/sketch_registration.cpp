@@ -38,6 +38,10 @@ void SketchRegistrationConfig::validate() const {
   requireInRange("scale_tolerance_factor", scale_tolerance_factor, 1.0, 1e3);
   requireInRange("sketch_point_radius_m", sketch_point_radius_m, 0.0, 100.0);
   requirePositive("fitness_threshold_m", fitness_threshold_m);
+  requireThat(kept_fitness_threshold_m >= fitness_threshold_m, "kept_fitness_threshold_m",
+              "must be >= fitness_threshold_m (a kept hypothesis is held to a looser bound)");
+  requireThat(kept_min_inlier_ratio >= 0.0 && kept_min_inlier_ratio <= icp.min_inlier_ratio,
+              "kept_min_inlier_ratio", "must be in [0, min_inlier_ratio]");
   requireInRange("confidence_tau", confidence_tau, 0.0, 1e3);
   requirePositive("max_speed_mps", max_speed_mps);
   requireInRange("max_icp_inputs", max_icp_inputs, 1, 100000);
@@ -64,7 +68,7 @@ DescriptorConfig sketchDescriptorConfig(const SketchRegistrationConfig& c) {
 
 DescriptorConfig observationDescriptorConfig(const SketchRegistrationConfig& c) {
   DescriptorConfig d = c.descriptor;
-  d.point_radius_m = std::max(c.descriptor.point_radius_m, 0.5 * c.observation.descriptor_voxel_m);
+  d.point_radius_m = std::max(c.descriptor.point_radius_m, 0.5 * c.observation.column_cell_m);
   return d;
 }
 
@@ -159,19 +163,18 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
   last_time_s_ = time_s;
   last_robot_m_ = robot_xy;
 
-  const ObservationConfig& oc = config_.observation;
-  const ProjectedMap desc_map =
-      projectLocalMap(local_map_world_m, robot_world_m, oc.slice_min_dz_m, oc.slice_max_dz_m,
-                      config_.descriptor.max_range_m, oc.descriptor_voxel_m);
-  diag.descriptor_points = desc_map.points_m.size();
+  // One observation for both consumers (observation.h).
+  const Observation obs = observe(local_map_world_m, robot_world_m, config_.observation,
+                                  config_.descriptor.max_range_m);
+  diag.descriptor_points = obs.descriptor_m.size();
   const DescriptorConfig odc = observationDescriptorConfig(config_);
-  diag.descriptor = computeGeoContext(desc_map.points_m, robot_xy, odc);
+  diag.descriptor = computeGeoContext(obs.descriptor_m, robot_xy, odc);
   result_.last_frame = diag;
   if (!diag.descriptor.valid) {
     std::ostringstream os;
-    os << "local map unusable: " << desc_map.num_input << " points, " << desc_map.num_non_finite
-       << " non-finite, " << desc_map.num_in_band
-       << " in the height band within range; frame ignored";
+    os << "local map unusable: " << obs.map.num_input << " points, " << obs.map.num_non_finite
+       << " non-finite, " << obs.map.num_in_band << " in the height band within range, "
+       << obs.descriptor_m.size() << " observation points in the descriptor range; frame ignored";
     return fail(RegistrationStatus::kBadInput, os.str());
   }
 
@@ -181,15 +184,16 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
   diag.representatives = verifier_.representatives().size();
   result_.frames_used = verifier_.numFrames();
 
-  const ProjectedMap icp_map = projectLocalMap(local_map_world_m, robot_world_m, oc.slice_min_dz_m,
-                                               oc.slice_max_dz_m, oc.icp_range_m, oc.icp_voxel_m);
-  const Points2d icp_points = thinEvenly(icp_map.points_m, static_cast<size_t>(oc.icp_max_points));
+  const Points2d& icp_points = obs.icp_m;
   diag.icp_points = icp_points.size();
-  PointKdTree2d::Points dense(icp_map.points_m.begin(), icp_map.points_m.end());
+  PointKdTree2d::Points dense(obs.icp_dense_m.begin(), obs.icp_dense_m.end());
   const PointKdTree2d dense_tree(std::move(dense));
   const ObservedIndex observed{&dense_tree, robot_xy};
   updateHypotheses(icp_points, observed, diag);
   result_.last_frame = diag;
+  // No transform survived the fitness test: whatever tracks the verifier still follows are not
+  // registrations, so the next frame seeds fresh triplets as well.
+  if (live_.empty()) verifier_.requestReseed();
 
   result_.hypotheses.clear();
   result_.mirrored_hypotheses.clear();
@@ -292,7 +296,10 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
     const IcpResult r = icp_->refine(
         in.T, icp_points, in.id ? 1.5 * config_.icp.min_correspondence_m : 0.0, &observed);
     ++diag.icp_runs;
-    if (!r.valid || !(r.fitness_m <= config_.fitness_threshold_m)) {
+    const double max_fitness =
+        in.id ? config_.kept_fitness_threshold_m : config_.fitness_threshold_m;
+    const double min_inliers = in.id ? config_.kept_min_inlier_ratio : config_.icp.min_inlier_ratio;
+    if (!r.usable || !(r.inlier_ratio >= min_inliers) || !(r.fitness_m <= max_fitness)) {
       if (!in.id) rejected_.push_back({in.T, frame_counter_});
       continue;
     }

@@ -149,8 +149,23 @@ TEST(BadInput, ConfigValidationNamesTheKey) {
   c.descriptor.num_bins = 91;  // not divisible by the coarse shift factor
   expectKey(c, "coarse_shift_factor");
   c = {};
-  c.observation.slice_min_dz_m = 2.0;
+  c.observation.slice_min_dz_m = c.observation.slice_max_dz_m;
   expectKey(c, "slice_min_dz_m");
+  c = {};
+  c.observation.column_cell_m = 0.0;
+  expectKey(c, "column_cell_m");
+  c = {};
+  c.observation.wall_max_gap_m = -1.0;
+  expectKey(c, "wall_max_gap_m");
+  c = {};
+  c.observation.wall_min_height_m = std::numeric_limits<double>::quiet_NaN();
+  expectKey(c, "wall_min_height_m");
+  c = {};
+  c.kept_fitness_threshold_m = 0.5 * c.fitness_threshold_m;
+  expectKey(c, "kept_fitness_threshold_m");
+  c = {};
+  c.kept_min_inlier_ratio = c.icp.min_inlier_ratio + 0.1;
+  expectKey(c, "kept_min_inlier_ratio");
   c = {};
   c.icp.max_iterations = 0;
   expectKey(c, "max_iterations");

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <random>
 
 #include "sketch_registration/sketch_registration.h"
 #include "sketch_registration/synthetic_scene.h"
@@ -199,6 +200,59 @@ TEST(EndToEnd, MildlyDeformedSketch) {
   EXPECT_LT(worst, 1.5);
 }
 
+/// The office walk: clean frames for the first half, then frames whose local map carries clutter
+/// the plan does not have (wall-like columns >= 1.5 m from every wall, ~45 % as many columns as
+/// the walls give) so that the true transform's inlier ratio falls between the bound for kept
+/// hypotheses (0.6) and the one for new hypotheses (0.75).
+std::vector<RegistrationStatus> runWithLateClutter(const syn::Scenario& sc,
+                                                   SketchRegistration& reg) {
+  syn::LocalMapSimulator sim(sc.world_plan, {});
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-12.0, 12.0);
+  std::vector<RegistrationStatus> statuses;
+  const size_t half = sc.path_world_m.size() / 2;
+  for (size_t i = 0; i < sc.path_world_m.size(); ++i) {
+    sim.scanAt(sc.path_world_m[i]);
+    if (i % 5 != 4) continue;
+    const Vector2d p = sc.path_world_m[i];
+    Points3d map = sim.localMap(p, 40.0);
+    const Eigen::Vector3d robot(p.x(), p.y(), 1.5);
+    if (i >= half) {
+      const size_t walls = observe(map, robot, reg.config().observation, 30.0).icp_dense_m.size();
+      for (size_t k = 0; k < (walls * 45) / 100;) {
+        const Vector2d c = p + Vector2d(u(rng), u(rng));
+        if (syn::distanceToPlan(sc.world_plan, c) < 1.5) continue;
+        for (double z = 0.25; z < 3.0; z += 0.25) map.emplace_back(c.x(), c.y(), z);
+        ++k;
+      }
+    }
+    statuses.push_back(reg.addFrame(double(i), robot, map).status);
+  }
+  return statuses;
+}
+
+TEST(EndToEnd, AReportedHypothesisSurvivesClutterANewOneCouldNotPass) {
+  const Sim2 truth(2.0, 1.3, Vector2d(15.0, -7.0));
+  const syn::Scenario sc = officeScenario(truth);
+  const auto lateStatuses = [&](const SketchRegistration::Config& config) {
+    SketchRegistration reg(config, sc.sketch_points_m, sc.candidates_m);
+    const std::vector<RegistrationStatus> all = runWithLateClutter(sc, reg);
+    EXPECT_EQ(all[all.size() / 2 - 1], RegistrationStatus::kOk) << "no hypothesis before clutter";
+    return std::vector<RegistrationStatus>(all.begin() + all.size() / 2, all.end());
+  };
+  const SketchRegistration::Config hysteresis;
+  for (const RegistrationStatus s : lateStatuses(hysteresis)) {
+    EXPECT_EQ(s, RegistrationStatus::kOk) << toString(s);
+  }
+  // Contrast: held to the bounds of a new hypothesis, it is lost in the clutter.
+  SketchRegistration::Config strict;
+  strict.kept_fitness_threshold_m = strict.fitness_threshold_m;
+  strict.kept_min_inlier_ratio = strict.icp.min_inlier_ratio;
+  const std::vector<RegistrationStatus> late = lateStatuses(strict);
+  EXPECT_TRUE(std::any_of(late.begin(), late.end(),
+                          [](RegistrationStatus s) { return s != RegistrationStatus::kOk; }));
+}
+
 TEST(EndToEnd, SketchOfAnotherPlaceYieldsNoHypothesis) {
   const Sim2 truth(0.3, 1.0, Vector2d(0.0, 0.0));
   const syn::Scenario office = officeScenario(truth);
@@ -210,6 +264,8 @@ TEST(EndToEnd, SketchOfAnotherPlaceYieldsNoHypothesis) {
       syn::makeScenario(garage, solids, lo, Vector2d(90, 70), Sim2(), {{4, 4}, {8, 4}});
   SketchRegistration reg(SketchRegistration::Config{}, other.sketch_points_m, other.candidates_m);
   const ScenarioRun run = runScenario(office, reg);
+  // Not even for one frame: the looser bounds for kept hypotheses must not let one in.
+  for (const RegistrationStatus s : run.statuses) EXPECT_NE(s, RegistrationStatus::kOk);
   EXPECT_TRUE(run.last.hypotheses.empty());
   EXPECT_TRUE(run.last.status == RegistrationStatus::kNoConsistentTriplet ||
               run.last.status == RegistrationStatus::kAllRejectedByFitness)

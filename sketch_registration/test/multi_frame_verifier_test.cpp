@@ -138,6 +138,31 @@ TEST(MultiFrameVerifier, RobustnessFramesRecoverAFailedFirstFrame) {
   EXPECT_TRUE(hasTruth(v, truth, f, 2.0));
 }
 
+TEST(MultiFrameVerifier, ARequestedReseedFindsTheTruthPastASurvivingWrongTrack) {
+  // The truth is retrieved only from frame 5 on; every frame also holds a candidate consistent
+  // with a wrong similarity, whose track survives and so blocks the reseed-when-empty restart.
+  const Sim2 truth(0.3, 1.0, Vector2d(0, 0));
+  const Sim2 wrong(-1.2, 1.2, Vector2d(30, -20));
+  Frames f = makeFrames(truth, 7, {0, 1, 2, 3}, 6);
+  for (size_t i = 0; i < f.p_world.size(); ++i) {
+    Candidate w;
+    w.c_sketch = wrong.inverse().apply(f.p_world[i]);
+    w.yaw_rad = wrong.yaw_rad;
+    f.candidates[i].push_back(w);
+  }
+  const auto run = [&](bool request) {
+    MultiFrameVerifier v(VerifierConfig{});
+    for (int i = 0; i < 7; ++i) {
+      if (request && i >= 5) v.requestReseed();
+      v.addFrame(f.p_world[static_cast<size_t>(i)], f.candidates[static_cast<size_t>(i)]);
+    }
+    EXPECT_FALSE(v.tracks().empty());
+    return hasTruth(v, truth, f, 2.0);
+  };
+  EXPECT_FALSE(run(false));
+  EXPECT_TRUE(run(true));
+}
+
 TEST(MultiFrameVerifier, IgnoresFramesWithoutMotionOrCandidates) {
   MultiFrameVerifier v(VerifierConfig{});
   Candidate c;

@@ -164,5 +164,30 @@ TEST(ScaleIcp, DegenerateInputsAreInvalidNotFatal) {
   EXPECT_THROW(bad.validate(), ConfigError);
 }
 
+TEST(ScaleIcp, ReverseTermIgnoresSketchWallsFarBeyondTheObservedArea) {
+  // A room 30 x 30 m drawn whole; the LiDAR has only seen the middle of the east and west walls.
+  Points2d sketch, observed;
+  for (double t = -15; t <= 15; t += 0.1) {
+    for (const Vector2d& p : {Vector2d(15, t), Vector2d(-15, t), Vector2d(t, 15), Vector2d(t, -15)})
+      sketch.push_back(p);
+    if (std::abs(t) <= 5) {
+      observed.emplace_back(15, t);
+      observed.emplace_back(-15, t);
+    }
+  }
+  const PointKdTree2d tree(PointKdTree2d::Points(observed.begin(), observed.end()));
+  const ObservedIndex index{&tree, Vector2d::Zero()};
+  ScaleIcpConfig all;
+  all.reverse_extent_bins = 0;
+  const IcpResult counted = ScaleIcp(sketch, all).evaluate(Sim2(), observed, &index);
+  const IcpResult within = ScaleIcp(sketch, ScaleIcpConfig{}).evaluate(Sim2(), observed, &index);
+  // Every visible sketch wall counts against the truth: the unseen ones are far from anything.
+  EXPECT_GT(counted.reverse_fitness_m, 2.0);
+  EXPECT_FALSE(counted.valid);
+  // Only the walls in bearings with observations (up to reverse_extent_margin_m beyond) count.
+  EXPECT_LT(within.reverse_fitness_m, 0.2);
+  EXPECT_TRUE(within.valid);
+}
+
 }  // namespace
 }  // namespace efs::registration

@@ -438,6 +438,9 @@ struct TrialResult {
   double precompute_s = 0.0;
   size_t candidates = 0;
   std::vector<double> frame_cpu_ms;
+  std::vector<double> truth_fitness_m;  ///< F of the true transform per frame (with truth)
+  std::vector<double> truth_inliers;    ///< its inlier ratio
+  int truth_accepted = 0;               ///< frames on which the truth passes the fitness test
 };
 
 TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Route& route,
@@ -455,7 +458,10 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
   tr.precompute_s = (threadCpuMs() - cpu0) * 1e-3;
 
   std::unique_ptr<Tree2> truth_tree;
+  std::unique_ptr<reg::ScaleIcp> truth_icp;
   if (sketch.T_world_sketch) {
+    truth_icp =
+        std::make_unique<reg::ScaleIcp>(prior.boundary_sketch_m, reg::scaleIcpConfig(config));
     reg::Points2d mapped;
     for (const Vector2d& p : prior.boundary_sketch_m)
       mapped.push_back(sketch.T_world_sketch->apply(p));
@@ -527,18 +533,21 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
                    fmt(err).c_str(), r.message.c_str(), r.last_frame.candidates.size(),
                    vs.anchor_pairs, vs.pairs_scale_ok, vs.triplets_tested, vs.triplets_accepted,
                    vs.tracks, vs.representatives, r.last_frame.icp_runs);
-      if (sketch.T_world_sketch) {
-        // What the fitness test says about the true transform on this frame's observation.
-        const reg::ObservationConfig& oc = config.observation;
-        const reg::ProjectedMap m = reg::projectLocalMap(
-            cloud, p, oc.slice_min_dz_m, oc.slice_max_dz_m, oc.icp_range_m, oc.icp_voxel_m);
-        const efs::PointKdTree2d dense(
-            efs::PointKdTree2d::Points(m.points_m.begin(), m.points_m.end()));
-        const reg::ObservedIndex index{&dense, p.head<2>()};
-        const reg::ScaleIcp icp(prior.boundary_sketch_m, reg::scaleIcpConfig(config));
-        const reg::IcpResult e = icp.evaluate(
-            *sketch.T_world_sketch,
-            reg::thinEvenly(m.points_m, static_cast<size_t>(oc.icp_max_points)), &index);
+    }
+    if (truth_icp) {
+      // What the fitness test says about the true transform on this frame's observation.
+      const reg::Observation obs =
+          reg::observe(cloud, p, config.observation, config.descriptor.max_range_m);
+      const efs::PointKdTree2d dense(
+          efs::PointKdTree2d::Points(obs.icp_dense_m.begin(), obs.icp_dense_m.end()));
+      const reg::ObservedIndex index{&dense, p.head<2>()};
+      const reg::IcpResult e = truth_icp->evaluate(*sketch.T_world_sketch, obs.icp_m, &index);
+      if (e.num_points > 0) {
+        tr.truth_fitness_m.push_back(e.fitness_m);
+        tr.truth_inliers.push_back(e.inlier_ratio);
+        tr.truth_accepted += e.valid && e.fitness_m <= config.fitness_threshold_m;
+      }
+      if (opt.verbose) {
         std::fprintf(stderr,
                      "           truth: F %.2f (forward %.2f, reverse %.2f), inliers %.2f, %d "
                      "points, valid %d\n",
@@ -578,6 +587,13 @@ Options parse(int argc, char** argv) {
                         "min-inlier-ratio",
                         "slice-min-dz-m",
                         "slice-max-dz-m",
+                        "wall-columns",
+                        "kept-fitness-threshold-m",
+                        "kept-min-inlier-ratio",
+                        "inlier-distance-m",
+                        "column-cell-m",
+                        "wall-min-height-m",
+                        "wall-max-gap-m",
                         "icp-range-m"}) {
     valued.insert(k);
   }
@@ -617,6 +633,20 @@ Options parse(int argc, char** argv) {
       args.number("slice-min-dz-m", o.registration.observation.slice_min_dz_m);
   o.registration.observation.slice_max_dz_m =
       args.number("slice-max-dz-m", o.registration.observation.slice_max_dz_m);
+  o.registration.kept_fitness_threshold_m =
+      args.number("kept-fitness-threshold-m", o.registration.kept_fitness_threshold_m);
+  o.registration.icp.inlier_distance_m =
+      args.number("inlier-distance-m", o.registration.icp.inlier_distance_m);
+  o.registration.kept_min_inlier_ratio =
+      args.number("kept-min-inlier-ratio", o.registration.kept_min_inlier_ratio);
+  o.registration.observation.wall_columns =
+      args.integer("wall-columns", o.registration.observation.wall_columns ? 1 : 0) != 0;
+  o.registration.observation.column_cell_m =
+      args.number("column-cell-m", o.registration.observation.column_cell_m);
+  o.registration.observation.wall_min_height_m =
+      args.number("wall-min-height-m", o.registration.observation.wall_min_height_m);
+  o.registration.observation.wall_max_gap_m =
+      args.number("wall-max-gap-m", o.registration.observation.wall_max_gap_m);
   o.registration.observation.icp_range_m =
       args.number("icp-range-m", o.registration.observation.icp_range_m);
   o.registration.validate();
@@ -675,10 +705,12 @@ int main(int argc, char** argv) {
       const TrialResult& t = trials.back();
       std::fprintf(stderr,
                    "  trial %d (seed %llu): %s, TTC %s s, error %s m, wall median %s m, %d frames, "
-                   "status %s\n",
+                   "status %s; truth F median %s m, inliers median %s, accepted on %d frames\n",
                    i + 1, static_cast<unsigned long long>(seed), t.success ? "success" : "FAILURE",
                    t.ttc_s ? fmt(*t.ttc_s, 0).c_str() : "-", fmt(t.final_error_m).c_str(),
-                   fmt(t.final_wall.median_m).c_str(), t.frames, t.final_status.c_str());
+                   fmt(t.final_wall.median_m).c_str(), t.frames, t.final_status.c_str(),
+                   fmt(median(t.truth_fitness_m)).c_str(), fmt(median(t.truth_inliers)).c_str(),
+                   t.truth_accepted);
     }
 
     std::ostringstream md;

@@ -93,6 +93,10 @@ class MultiFrameVerifier {
   const VerifierStats& lastStats() const { return stats_; }
   const VerifierConfig& config() const { return config_; }
   void reset();
+  /// The next frame seeds new triplets from the last three frames even while tracks exist (the
+  /// caller found that none of the current transforms survives the fitness test: a surviving
+  /// wrong track would otherwise block the robustness restart for good).
+  void requestReseed() { reseed_requested_ = true; }
 
  private:
   struct Frame {
@@ -112,6 +116,7 @@ class MultiFrameVerifier {
   std::vector<Representative> representatives_;
   VerifierStats stats_;
   std::mt19937_64 rng_;
+  bool reseed_requested_ = false;
 };
 
 }  // namespace efs::registration

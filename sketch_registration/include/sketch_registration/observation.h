@@ -1,8 +1,23 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 //
-// The observation map as the registration sees it: the 3D local map (world frame) sliced to a
-// height band around the robot (floor and ceiling would otherwise hide every wall in the
-// projection), projected onto the horizontal plane and thinned on a 2D grid.
+// The observation map as the registration sees it: what a person would draw of the 3D local map
+// (world frame), as 2D points. The paper (Sec. V-C) projects the whole observation map onto the
+// plane and keeps its boundary; a plain projection would be all floor and ceiling, and a thin
+// height slice around the robot puts a cave's walls ~1 m inside the drawn outline (the widest
+// extent of the passage) and keeps parked cars the drawing omits.
+//
+// Wall columns: the points of a generous height band around the robot are binned into vertical
+// columns of `column_cell_m`. Within a column, a vertical gap larger than `wall_max_gap_m` is free
+// space between a lower and an upper surface (floor and ceiling, car roof and ceiling, floor and
+// lintel): the column is passage. A column whose points form one vertical run (no such gap) at
+// least `wall_min_height_m` tall is wall; shorter runs (a patch of floor or ceiling, a car side
+// seen without the ceiling above it) are neither. In a cave the outermost column of a bulging
+// wall holds the tangent part of the wall, a tall run, while the columns inside it see the wall's
+// lower and upper slopes with free space between them: the outline a person draws. Doors are gaps
+// (floor + lintel); car columns have space above the roof and are passage.
+//
+// One code path: the descriptor and Scale-ICP both use observeLocalMap's points (ICP a coarser
+// grid of them over a wider range).
 #pragma once
 
 #include <cstddef>
@@ -12,29 +27,50 @@
 namespace efs::registration {
 
 struct ObservationConfig {
-  double slice_min_dz_m = -1.0;  ///< band relative to the robot height
-  double slice_max_dz_m = 1.0;
-  double descriptor_voxel_m = 0.1;  ///< grid for the GeoContext input
-  double icp_voxel_m = 0.3;         ///< grid for the Scale-ICP input
-  double icp_range_m = 40.0;        ///< horizontal radius kept for Scale-ICP
-  int icp_max_points = 800;         ///< evenly thinned above this
+  /// true: wall columns (see above); false: every occupied column of the band (a height slice).
+  bool wall_columns = true;
+  double slice_min_dz_m = -3.0;    ///< band relative to the robot height
+  double slice_max_dz_m = 4.0;     ///< band relative to the robot height
+  double column_cell_m = 0.25;     ///< column grid (and the descriptor's input grid)
+  double wall_min_height_m = 1.2;  ///< a wall column's points span at least this vertically
+  double wall_max_gap_m = 1.2;     ///< a larger vertical gap in a column = free space (passage)
+  double icp_voxel_m = 0.3;        ///< grid for the Scale-ICP input
+  double icp_range_m = 40.0;       ///< horizontal radius kept for Scale-ICP
+  int icp_max_points = 800;        ///< evenly thinned above this
   void validate() const;
 };
 
 struct ProjectedMap {
-  Points2d points_m;  ///< unique grid cells (cell centroids of the first point)
+  Points2d points_m;  ///< one point per kept column: the mean position of its points
   size_t num_input = 0;
   size_t num_non_finite = 0;
   size_t num_in_band = 0;
+  size_t num_columns = 0;  ///< occupied columns in the band within range
+  size_t num_passage_columns = 0;
 };
 
-/// Projects finite points with z in the band and horizontal distance <= range_m to the robot onto
-/// a grid of `voxel_m`, one point per occupied cell (the first seen; deterministic).
-ProjectedMap projectLocalMap(const Points3d& local_map_world_m,
-                             const Eigen::Vector3d& robot_world_m, double min_dz_m, double max_dz_m,
-                             double range_m, double voxel_m);
+/// The observation: the columns (see the file comment) of finite points with z in the band and
+/// horizontal distance <= range_m to the robot, one point per kept column, in a deterministic
+/// order.
+ProjectedMap observeLocalMap(const Points3d& local_map_world_m,
+                             const Eigen::Vector3d& robot_world_m, const ObservationConfig& config,
+                             double range_m);
+
+/// The points within `range_m` of `centre_m`, one per `voxel_m` grid cell (the first seen).
+Points2d thinToGrid(const Points2d& points, const Eigen::Vector2d& centre_m, double range_m,
+                    double voxel_m);
 
 /// Keeps at most `max_points` with an even stride (deterministic).
 Points2d thinEvenly(const Points2d& points, size_t max_points);
+
+/// What one frame hands to the descriptor and to Scale-ICP, all from one observeLocalMap call.
+struct Observation {
+  ProjectedMap map;       ///< over max(descriptor_range_m, icp_range_m)
+  Points2d descriptor_m;  ///< within descriptor_range_m, on the column grid
+  Points2d icp_dense_m;   ///< within icp_range_m, on the icp_voxel_m grid (reverse fitness term)
+  Points2d icp_m;         ///< icp_dense_m thinned to icp_max_points (ICP iterations)
+};
+Observation observe(const Points3d& local_map_world_m, const Eigen::Vector3d& robot_world_m,
+                    const ObservationConfig& config, double descriptor_range_m);
 
 }  // namespace efs::registration

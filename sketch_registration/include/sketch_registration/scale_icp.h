@@ -43,6 +43,13 @@ struct ScaleIcpConfig {
   /// robot within this world range must have an observed point nearby. Catches transforms that
   /// put sketch walls where the LiDAR saw free space. 0 disables.
   double reverse_range_m = 20.0;
+  /// The reverse term only counts visible sketch points that lie within the observed area: no
+  /// farther than reverse_extent_margin_m beyond the farthest observed point in their bearing
+  /// (this many azimuth bins, a bin and its two neighbours). Far beyond it nothing was observed
+  /// yet, or a wall the drawing misplaces (a deformed sketch) hides it; neither says the
+  /// transform is wrong. 0 bins counts every visible sketch point.
+  int reverse_extent_bins = 180;
+  double reverse_extent_margin_m = 3.0;
   bool symmetric = false;  ///< also pair visible sketch points with observed ones while iterating
   /// Cold starts first try a small grid of yaw x scale offsets about the observation's centroid
   /// (ICP's own capture range in cluttered floors is a few degrees and percent): +-steps*step.
@@ -69,7 +76,8 @@ struct IcpResult {
   double reverse_fitness_m = 0.0;  ///< visible sketch -> observation (0 when not evaluated)
   int iterations = 0;
   int num_points = 0;           ///< observed points used
-  bool valid = false;           ///< enough points and inliers, scale not pinned to a bound
+  bool valid = false;           ///< usable and inlier_ratio >= min_inlier_ratio
+  bool usable = false;          ///< enough observed points inside the sketch, scale not pinned
   bool scale_at_bound = false;  ///< refine() ended on scale_min or scale_max
 };
 

@@ -86,8 +86,15 @@ struct SketchRegistrationConfig {
   ScaleIcpConfig icp;                   ///< its scale bounds are set from here
   ObservationConfig observation;
   double fitness_threshold_m = 0.6;  ///< F_thresh (not given in the paper)
-  double confidence_tau = 0.3;       ///< tau
-  double max_speed_mps = 20.0;       ///< faster between frames = odometry jump
+  /// Hysteresis: a hypothesis already reported survives while its F stays below this and its
+  /// inlier ratio above kept_min_inlier_ratio; a new one must pass fitness_threshold_m and
+  /// icp.min_inlier_ratio. Clutter and sketch deformation move a correct fit around the new-
+  /// hypothesis bounds from frame to frame; a wrong transform rarely passes them in the first
+  /// place.
+  double kept_fitness_threshold_m = 0.8;
+  double kept_min_inlier_ratio = 0.6;
+  double confidence_tau = 0.3;  ///< tau
+  double max_speed_mps = 20.0;  ///< faster between frames = odometry jump
   ReflectionMode reflection = ReflectionMode::kDetect;
   int max_icp_inputs = 8;         ///< new representatives refined per frame
   int icp_retry_frames = 3;       ///< a rejected transform is retried after this many frames

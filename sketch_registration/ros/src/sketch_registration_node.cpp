@@ -56,9 +56,15 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   p.get("n_f", r.verifier.n_f);
   p.get("fitness_threshold_m", r.fitness_threshold_m);
   p.get("confidence_tau", r.confidence_tau);
+  p.get("kept_fitness_threshold_m", r.kept_fitness_threshold_m);
   p.get("min_inlier_ratio", r.icp.min_inlier_ratio);
+  p.get("kept_min_inlier_ratio", r.kept_min_inlier_ratio);
+  p.get("wall_columns", r.observation.wall_columns);
   p.get("slice_min_dz_m", r.observation.slice_min_dz_m);
   p.get("slice_max_dz_m", r.observation.slice_max_dz_m);
+  p.get("column_cell_m", r.observation.column_cell_m);
+  p.get("wall_min_height_m", r.observation.wall_min_height_m);
+  p.get("wall_max_gap_m", r.observation.wall_max_gap_m);
   p.get("max_speed_mps", r.max_speed_mps);
   p.get("max_hypotheses", r.max_hypotheses);
   p.rejectUnknown();

@@ -1,0 +1,151 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// The observation keeps what a person draws: a building's walls with door openings as gaps and
+// no parked car; a cave's outline at the passage's widest extent, not where a slice at the
+// robot's height cuts the wall.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "sketch_registration/observation.h"
+
+namespace efs::registration {
+namespace {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+constexpr double kStep = 0.2;  // the local map's voxel size
+
+/// A room 16 x 8 m, 3 m high: floor, ceiling, walls at y = +-4 (a door 1 m wide and 2.1 m high
+/// at x in [2, 3] in the y = +4 wall) and a car (2 x 2 x 1.5 m) whose footprint hides the floor.
+Points3d buildingScene() {
+  Points3d pts;
+  const auto inCar = [](double x, double y) {
+    return x >= -3 && x <= -1 && y >= -2.5 && y <= -0.5;
+  };
+  for (double x = -8; x <= 8 + 1e-9; x += kStep) {
+    for (double y = -4; y <= 4 + 1e-9; y += kStep) {
+      if (!inCar(x, y)) pts.emplace_back(x, y, 0.0);
+      pts.emplace_back(x, y, 3.0);
+    }
+    for (double z = 0; z <= 3 + 1e-9; z += kStep) {
+      pts.emplace_back(x, -4.0, z);
+      const bool door = x >= 2 && x <= 3 && z < 2.1;
+      if (!door) pts.emplace_back(x, 4.0, z);
+    }
+  }
+  for (double x = -3; x <= -1 + 1e-9; x += kStep) {
+    for (double y = -2.5; y <= -0.5 + 1e-9; y += kStep) pts.emplace_back(x, y, 1.5);
+    for (double z = 0; z <= 1.5 + 1e-9; z += kStep) {
+      pts.emplace_back(x, -2.5, z);
+      pts.emplace_back(x, -0.5, z);
+    }
+  }
+  for (double y = -2.5; y <= -0.5 + 1e-9; y += kStep) {
+    for (double z = 0; z <= 1.5 + 1e-9; z += kStep) {
+      pts.emplace_back(-3.0, y, z);
+      pts.emplace_back(-1.0, y, z);
+    }
+  }
+  return pts;
+}
+
+/// A tunnel along x with an elliptical cross-section (half-width 2.5 m, half-height 2 m) centred
+/// 3 m up: a robot at 1.5 m sees the walls bulge out above it to |y| = 2.5.
+Points3d caveScene() {
+  Points3d pts;
+  for (double x = -8; x <= 8 + 1e-9; x += kStep) {
+    for (double t = 0; t < 2 * M_PI; t += 0.04) {
+      pts.emplace_back(x, 2.5 * std::cos(t), 3.0 + 2.0 * std::sin(t));
+    }
+  }
+  return pts;
+}
+
+const Vector3d kRobot(0.3, 0.1, 1.5);
+
+TEST(Observation, BuildingKeepsWallsAndDoorGapDropsCarFloorCeiling) {
+  const ObservationConfig config;
+  const ProjectedMap m = observeLocalMap(buildingScene(), kRobot, config, 30.0);
+  ASSERT_FALSE(m.points_m.empty());
+  int south = 0;
+  for (const Vector2d& p : m.points_m) {
+    // Only the walls: nothing of the floor, the ceiling or the car.
+    EXPECT_NEAR(std::abs(p.y()), 4.0, 0.3) << p.transpose();
+    // The door is a gap.
+    if (p.y() > 0) {
+      EXPECT_FALSE(p.x() > 2.3 && p.x() < 2.7) << p.transpose();
+    }
+    if (p.y() < 0) ++south;
+  }
+  // The south wall is kept along its whole length (one point per 0.25 m column).
+  EXPECT_GE(south, 55);
+  EXPECT_GT(m.num_passage_columns, 100u);
+
+  // Contrast: every occupied column of the band keeps the car (and the floor and ceiling).
+  ObservationConfig slice = config;
+  slice.wall_columns = false;
+  const ProjectedMap all = observeLocalMap(buildingScene(), kRobot, slice, 30.0);
+  const auto onCar = [](const Vector2d& p) {
+    return p.x() > -3.1 && p.x() < -0.9 && p.y() > -2.6 && p.y() < -0.4;
+  };
+  EXPECT_TRUE(std::any_of(all.points_m.begin(), all.points_m.end(), onCar));
+  EXPECT_FALSE(std::any_of(m.points_m.begin(), m.points_m.end(), onCar));
+}
+
+TEST(Observation, CaveKeepsTheOutlineAtTheWidestExtent) {
+  const ObservationConfig config;
+  const ProjectedMap m = observeLocalMap(caveScene(), kRobot, config, 30.0);
+  int north = 0, south = 0;
+  for (const Vector2d& p : m.points_m) {
+    EXPECT_GT(std::abs(p.y()), 2.5 - 0.35) << p.transpose();
+    (p.y() > 0 ? north : south) += 1;
+  }
+  EXPECT_GE(north, 55);
+  EXPECT_GE(south, 55);
+
+  // Contrast: the old +-1 m slice around the robot sees the walls well inside the outline.
+  ObservationConfig slice = config;
+  slice.wall_columns = false;
+  slice.slice_min_dz_m = -1.0;
+  slice.slice_max_dz_m = 1.0;
+  const ProjectedMap cut = observeLocalMap(caveScene(), kRobot, slice, 30.0);
+  ASSERT_FALSE(cut.points_m.empty());
+  double min_abs_y = 1e9;
+  for (const Vector2d& p : cut.points_m) min_abs_y = std::min(min_abs_y, std::abs(p.y()));
+  EXPECT_LT(min_abs_y, 2.0);
+}
+
+TEST(Observation, BandAndRangeLimitTheColumns) {
+  ObservationConfig config;
+  // A wall 2 m tall that lies entirely above the band is not seen; one beyond range neither.
+  Points3d pts;
+  for (double z = 6.0; z <= 8.0; z += kStep) pts.emplace_back(1.0, 0.0, z);
+  for (double z = 0.0; z <= 2.0; z += kStep) pts.emplace_back(50.0, 0.0, z);
+  for (double z = 0.0; z <= 2.0; z += kStep) pts.emplace_back(2.0, 0.0, z);
+  pts.emplace_back(std::nan(""), 0.0, 1.0);
+  const ProjectedMap m = observeLocalMap(pts, Vector3d(0, 0, 1.0), config, 30.0);
+  ASSERT_EQ(m.points_m.size(), 1u);
+  EXPECT_NEAR(m.points_m[0].x(), 2.0, 1e-9);
+  EXPECT_EQ(m.num_non_finite, 1u);
+}
+
+TEST(Observation, DescriptorAndIcpInputsComeFromOneObservation) {
+  ObservationConfig config;
+  config.icp_range_m = 5.0;
+  config.icp_max_points = 20;
+  const Observation o = observe(buildingScene(), kRobot, config, 30.0);
+  ASSERT_FALSE(o.descriptor_m.empty());
+  // Every ICP point is an observation point (the same walls), within the ICP range, thinned.
+  for (const Vector2d& p : o.icp_dense_m) {
+    EXPECT_LE((p - kRobot.head<2>()).norm(), 5.0);
+    EXPECT_TRUE(std::find(o.map.points_m.begin(), o.map.points_m.end(), p) != o.map.points_m.end());
+  }
+  EXPECT_LE(o.icp_m.size(), 20u);
+  EXPECT_GT(o.descriptor_m.size(), o.icp_dense_m.size());
+}
+
+}  // namespace
+}  // namespace efs::registration
