@@ -273,6 +273,27 @@ void LocalGrid::occupiedCentersInBox(const Eigen::Vector3d& lo, const Eigen::Vec
     }
 }
 
+std::optional<double> LocalGrid::nearestOccupiedDistance(const Eigen::Vector3d& p,
+                                                         double radius_m) const {
+  const int r = static_cast<int>(std::ceil(radius_m / cfg_.resolution_m));
+  const VoxelKey c = key(p);
+  double best_sq = radius_m * radius_m;
+  bool found = false;
+  for (int dx = -r; dx <= r; ++dx)
+    for (int dy = -r; dy <= r; ++dy)
+      for (int dz = -r; dz <= r; ++dz) {
+        const VoxelKey k{c.x + dx, c.y + dy, c.z + dz};
+        if (!inWindow(k) || !occupied_[index(k)]) continue;
+        const double d_sq = (center(k) - p).squaredNorm();
+        if (d_sq <= best_sq) {
+          best_sq = d_sq;
+          found = true;
+        }
+      }
+  if (!found) return std::nullopt;
+  return std::sqrt(best_sq);
+}
+
 size_t LocalGrid::occupiedCount() const {
   size_t n = 0;
   for (uint8_t o : occupied_) n += o;

@@ -2,6 +2,7 @@
 #include "minco_traj/local_planner.h"
 
 #include <cmath>
+#include <limits>
 
 #include "efs_common/config_check.h"
 
@@ -94,11 +95,17 @@ PlanResult LocalPlanner::plan(const LocalGrid& grid, const PlanRequest& req) con
 }
 
 double LocalPlanner::firstCollisionTime(const Trajectory& traj, const LocalGrid& grid,
-                                        double t_from_s, double horizon_s, double dt_s) {
-  if (traj.empty() || !(dt_s > 0.0)) return -1.0;
+                                        double t_from_s, double horizon_s, double clearance_m,
+                                        double dt_s) {
+  if (traj.empty() || !(dt_s > 0.0) || !(clearance_m > 0.0)) return -1.0;
+  const double t0 = std::max(0.0, t_from_s);
   const double t_end = std::min(traj.duration(), t_from_s + horizon_s);
-  for (double t = std::max(0.0, t_from_s); t <= t_end + 1e-12; t += dt_s)
-    if (grid.state(traj.position(t)) == CellState::kOccupied) return t;
+  const double d_now = grid.nearestOccupiedDistance(traj.position(t0), clearance_m)
+                           .value_or(std::numeric_limits<double>::infinity());
+  for (double t = t0; t <= t_end + 1e-12; t += dt_s) {
+    const std::optional<double> d = grid.nearestOccupiedDistance(traj.position(t), clearance_m);
+    if (d && *d < d_now - 1e-6) return t;
+  }
   return -1.0;
 }
 

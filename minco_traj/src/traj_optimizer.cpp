@@ -26,6 +26,7 @@ void TrajOptConfig::validate() const {
   requireInRange("traj_opt.max_retries", max_retries, 0, 10);
   requireInRange("traj_opt.check_dt_s", check_dt_s, 1e-4, 0.5);
   requireInRange("traj_opt.velocity_tolerance", velocity_tolerance, 0.0, 0.5);
+  requireInRange("traj_opt.acceleration_tolerance", acceleration_tolerance, 0.0, 0.5);
   requireInRange("traj_opt.corridor_tolerance_m", corridor_tolerance_m, 0.0, 0.5);
   lbfgs.validate();
 }
@@ -198,6 +199,13 @@ FeasibilityReport TrajOptimizer::check(const Trajectory& traj,
     rep.reason = "empty trajectory";
     return rep;
   }
+  // A plan cannot undo its initial state at once: limits start from what the head already has
+  // (a reference braking at a_max hands its full acceleration to the next plan).
+  const TrajectoryPoint head = traj.sample(0.0);
+  const double v_limit =
+      std::max(cfg_.v_max_mps, head.v_world_mps.norm()) * (1.0 + cfg_.velocity_tolerance);
+  const double a_limit =
+      std::max(cfg_.a_max_mps2, head.a_world_mps2.norm()) * (1.0 + cfg_.acceleration_tolerance);
   const double dur = traj.duration();
   const int steps = std::max(1, static_cast<int>(std::ceil(dur / cfg_.check_dt_s)));
   std::ostringstream why;
@@ -212,11 +220,11 @@ FeasibilityReport TrajOptimizer::check(const Trajectory& traj,
     rep.max_corridor_violation_m = std::max(rep.max_corridor_violation_m, best);
   }
   rep.ok = true;
-  if (!(rep.max_speed_mps <= cfg_.v_max_mps * (1.0 + cfg_.velocity_tolerance))) {
+  if (!(rep.max_speed_mps <= v_limit)) {
     rep.ok = false;
     why << "speed " << rep.max_speed_mps << " m/s > limit; ";
   }
-  if (!(rep.max_acceleration_mps2 <= cfg_.a_max_mps2)) {
+  if (!(rep.max_acceleration_mps2 <= a_limit)) {
     rep.ok = false;
     why << "acceleration " << rep.max_acceleration_mps2 << " m/s^2 > limit; ";
   }

@@ -17,8 +17,13 @@ void TrajectoryServerConfig::validate() const {
                  100.0);
   requireInRange("trajectory_server.collision_check_horizon_s", collision_check_horizon_s, 0.0,
                  100.0);
+  requireInRange("trajectory_server.collision_check_clearance_m", collision_check_clearance_m,
+                 grid.resolution_m,
+                 std::min(planner.corridor.clearance_m, grid.inflation_radius_m));
   requireInRange("trajectory_server.goal_reached_m", goal_reached_m, 0.01, 100.0);
   requireInRange("trajectory_server.plan_from_future_s", plan_from_future_s, 0.0, 1.0);
+  requireInRange("trajectory_server.retry_after_failed_plan_s", retry_after_failed_plan_s, 0.0,
+                 replan_period_s);
   requireInRange("trajectory_server.max_tracking_error_m", max_tracking_error_m, 0.01, 100.0);
   requireInRange("trajectory_server.recenter_distance_m", recenter_distance_m, 0.0,
                  0.5 * std::min(grid.size_x_m, grid.size_y_m));
@@ -30,6 +35,8 @@ const char* toString(ServerEvent e) {
       return "none";
     case ServerEvent::kReplanned:
       return "replanned";
+    case ServerEvent::kPlanFailedKeptCourse:
+      return "plan_failed_kept_course";
     case ServerEvent::kEmergencyStop:
       return "emergency_stop";
     case ServerEvent::kGoalReached:
@@ -86,8 +93,8 @@ void TrajectoryServer::insertScan(const Eigen::Vector3d& sensor_origin_world_m,
 
   if (goal_ && current_ && !stopping_ && last_update_s_) {
     const double t_from = std::max(0.0, *last_update_s_ - current_start_s_);
-    const double t_hit =
-        LocalPlanner::firstCollisionTime(*current_, grid_, t_from, cfg_.collision_check_horizon_s);
+    const double t_hit = LocalPlanner::firstCollisionTime(
+        *current_, grid_, t_from, cfg_.collision_check_horizon_s, cfg_.collision_check_clearance_m);
     if (t_hit >= 0.0) {
       collision_predicted_ = true;
       message_ = "collision predicted at " + vecString(current_->position(t_hit)) + " in " +
@@ -117,6 +124,7 @@ void TrajectoryServer::clearGoal(double time_s) {
   goal_.reset();
   look_at_.reset();
   new_goal_ = false;
+  retry_at_s_.reset();
   collision_predicted_ = false;
   const std::optional<ReferenceSample> ref = referenceAt(time_s);
   if (!ref || !std::isfinite(time_s)) return;
@@ -211,6 +219,8 @@ ServerEvent TrajectoryServer::update(double time_s, const VehicleState& state) {
     reason = "new goal";
   } else if (collision_predicted_) {
     reason = "collision predicted";
+  } else if (retry_at_s_ && time_s >= *retry_at_s_) {
+    reason = "retry after a failed plan";
   } else if (current_) {
     const double remaining_s = current_start_s_ + current_->duration() - time_s;
     const Eigen::Vector3d end_m = current_->position(current_->duration());
@@ -241,6 +251,7 @@ ServerEvent TrajectoryServer::update(double time_s, const VehicleState& state) {
 ServerEvent TrajectoryServer::replan(double time_s, const VehicleState& state,
                                      const std::string& reason) {
   new_goal_ = false;
+  retry_at_s_.reset();
   const bool collision = collision_predicted_;
   collision_predicted_ = false;
   last_replan_s_ = time_s;
@@ -283,6 +294,12 @@ ServerEvent TrajectoryServer::replan(double time_s, const VehicleState& state,
   }
   message_ = "plan failed (" + reason + "): " + std::string(toString(result.status)) + ": " +
              result.message;
+  if (!collision && tracking && !stopping_ && current_ && !current_->empty()) {
+    retry_at_s_ = time_s + cfg_.retry_after_failed_plan_s;
+    message_ += "; keeping the current trajectory (no collision predicted on it)";
+    last_plan_ = std::move(result);
+    return ServerEvent::kPlanFailedKeptCourse;
+  }
   // Already braking and nothing new threatens the stop: keep it, the reference stays smooth.
   const bool keep_stop = stopping_ && !collision && tracking;
   if (!keep_stop && !result.trajectory.empty()) install(result.trajectory, start_s);

@@ -1,6 +1,7 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <limits>
 
 #include "efs_common/config_check.h"
@@ -62,13 +63,18 @@ TEST(LocalPlanner, ThroughTheDoorSafelyAndWithinLimits) {
   }
 }
 
-TEST(LocalPlanner, PredictsCollisionWithNewObstacles) {
-  LocalGrid grid = doorWorld();
+// From one side of doorWorld's wall to the other, default planner.
+PlanResult planThroughTheDoor(const LocalGrid& grid) {
   PlanRequest req;
   req.p_world_m = {-3, -2, 1};
   req.goal_world_m = {3, -2, 1};
-  const PlanResult r = LocalPlanner().plan(grid, req);
-  ASSERT_TRUE(r.ok());
+  return LocalPlanner().plan(grid, req);
+}
+
+TEST(LocalPlanner, PredictsCollisionWithNewObstacles) {
+  LocalGrid grid = doorWorld();
+  const PlanResult r = planThroughTheDoor(grid);
+  ASSERT_TRUE(r.ok()) << r.message;
   const Eigen::Vector3d blocker = r.trajectory.position(0.5 * r.trajectory.duration());
   grid.setOccupied(blocker);
   const double t_hit = LocalPlanner::firstCollisionTime(r.trajectory, grid, 0.0, 100.0);
@@ -77,6 +83,27 @@ TEST(LocalPlanner, PredictsCollisionWithNewObstacles) {
   EXPECT_LT(
       LocalPlanner::firstCollisionTime(r.trajectory, grid, 0.0, 0.2 * r.trajectory.duration()),
       0.0);  // beyond the horizon: no trigger yet
+}
+
+TEST(LocalPlanner, PredictsCollisionWithAnObstacleBesideThePath) {
+  LocalGrid grid = doorWorld();
+  const PlanResult r = planThroughTheDoor(grid);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_LT(LocalPlanner::firstCollisionTime(r.trajectory, grid, 0.0, 100.0), 0.0);
+  // A post 0.2 m beside the path (within the 0.25 m vehicle radius) misses the centre line.
+  const double t_mid = 0.25 * r.trajectory.duration();
+  const Eigen::Vector3d on_path = r.trajectory.position(t_mid);
+  const Eigen::Vector3d side =
+      r.trajectory.velocity(t_mid).cross(Eigen::Vector3d::UnitZ()).normalized();
+  for (double z = -1.0; z <= 1.0; z += 0.1)
+    grid.setOccupied(on_path + 0.2 * side + z * Eigen::Vector3d::UnitZ());
+  for (double t = 0.0; t <= r.trajectory.duration(); t += 0.01)
+    ASSERT_NE(grid.state(r.trajectory.position(t)), CellState::kOccupied);
+  const double t_hit = LocalPlanner::firstCollisionTime(r.trajectory, grid, 0.0, 100.0);
+  EXPECT_GT(t_hit, 0.0);
+  EXPECT_LT(t_hit, t_mid + 0.05);
+  // Contrast: with a clearance below the post's distance nothing is predicted.
+  EXPECT_LT(LocalPlanner::firstCollisionTime(r.trajectory, grid, 0.0, 100.0, 0.1), 0.0);
 }
 
 TEST(LocalPlanner, MovingStartAndGoalInsideObstacle) {
@@ -91,7 +118,9 @@ TEST(LocalPlanner, MovingStartAndGoalInsideObstacle) {
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_TRUE(r.goal_adjusted);
   EXPECT_LT((r.trajectory.velocity(0) - req.v_world_mps).norm(), 1e-9);
-  EXPECT_LT(LocalPlanner::firstCollisionTime(r.trajectory, grid, 0.0, 100.0), 0.0);
+  // The substitute goal lies just outside this grid's 0.3 m inflation, inside the default
+  // check clearance (made for the 0.45 m default): check with the 0.25 m vehicle radius.
+  EXPECT_LT(LocalPlanner::firstCollisionTime(r.trajectory, grid, 0.0, 100.0, 0.25), 0.0);
 }
 
 TEST(LocalPlanner, StartInCollisionEscapesOrStops) {

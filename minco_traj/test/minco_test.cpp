@@ -209,6 +209,20 @@ TEST(TrajOptimizer, RespectsLimitsAndStaysInCorridor) {
   EXPECT_LT(tr.duration(), 8.0);
 }
 
+// The state an emergency brake hands over: decelerating at exactly a_max. The plan cannot start
+// below the limit, so the check measures it against what the head already has.
+TEST(TrajOptimizer, PlansOnFromABrakeAtTheAccelerationLimit) {
+  TrajOptConfig cfg;
+  TrajOptimizer opt(cfg);
+  const auto corridor = boxCorridor();
+  const auto res = opt.optimize(pva({1, 0, 1}, {2.0, 0, 0}, {-cfg.a_max_mps2, 0, 0}),
+                                pva({5, 5, 1}, {0, 0, 0}, {0, 0, 0}), corridor);
+  ASSERT_TRUE(res.ok()) << res.message;
+  EXPECT_NEAR(res.trajectory.acceleration(0.0).norm(), cfg.a_max_mps2, 1e-9);
+  EXPECT_LE(res.feasibility.max_acceleration_mps2,
+            cfg.a_max_mps2 * (1.0 + cfg.acceleration_tolerance));
+}
+
 TEST(TrajOptimizer, RefusesBadInput) {
   TrajOptimizer opt;
   const auto corridor = boxCorridor();

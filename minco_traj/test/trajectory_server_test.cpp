@@ -179,7 +179,7 @@ TEST(TrajectoryServer, GoalInsideAWallIsReachedAtTheNearestFreeCell) {
   EXPECT_LT(LocalPlanner::firstCollisionTime(*server.current(), server.grid(), 0.0, 100.0), 0.0);
 }
 
-TEST(TrajectoryServer, EmergencyStopWhenTheGoalIsEnclosed) {
+TEST(TrajectoryServer, AnEnclosedGoalKeepsTheClearCourseAndBrakesOnlyWhenItIsThreatened) {
   TrajectoryServer server(smallConfig());
   LocalGrid& grid = server.mutableGrid();
   grid.recenter({0, 0, 1});
@@ -201,10 +201,28 @@ TEST(TrajectoryServer, EmergencyStopWhenTheGoalIsEnclosed) {
   for (double t = 0.0; t < 0.5; t += 0.01) server.update(t, fromReference(server.sample(t)));
   const ReferenceSample moving = server.sample(0.5);
   ASSERT_GT(moving.v_world_mps.norm(), 0.3);
+  // The new goal cannot be planned: the current trajectory (checked, nothing predicted on it)
+  // is kept rather than braking off it, and the plan is retried.
+  const double course_start = server.currentStart_s();
   server.setGoal({4, 0, 1}, std::nullopt, 0.5);
-  EXPECT_EQ(server.update(0.5, fromReference(moving)), ServerEvent::kEmergencyStop);
-  EXPECT_TRUE(server.stopping());
+  EXPECT_EQ(server.update(0.5, fromReference(moving)), ServerEvent::kPlanFailedKeptCourse);
+  EXPECT_FALSE(server.stopping());
+  EXPECT_EQ(server.currentStart_s(), course_start);
   EXPECT_NE(server.lastMessage().find("plan failed"), std::string::npos) << server.lastMessage();
+  EXPECT_EQ(server.update(0.6, fromReference(server.sample(0.6))), ServerEvent::kNone);
+  EXPECT_EQ(server.update(0.7, fromReference(server.sample(0.7))),
+            ServerEvent::kPlanFailedKeptCourse);
+  EXPECT_NE(server.lastMessage().find("retry after a failed plan"), std::string::npos)
+      << server.lastMessage();
+  EXPECT_EQ(server.currentStart_s(), course_start);
+  // A wall across the kept course: now nothing safe remains to follow, so it brakes.
+  const Eigen::Vector3d ahead = server.sample(0.75).p_world_m;
+  ASSERT_LT(ahead.x(), -0.9);
+  server.insertScan(ahead, wallScan(-0.5, 1.0));
+  EXPECT_NE(server.lastMessage().find("collision predicted"), std::string::npos)
+      << server.lastMessage();
+  EXPECT_EQ(server.update(0.75, fromReference(server.sample(0.75))), ServerEvent::kEmergencyStop);
+  EXPECT_TRUE(server.stopping());
   // Continuous position and velocity into the stop, then at rest.
   const ReferenceSample s0 = server.sample(server.currentStart_s());
   EXPECT_LT((s0.p_world_m - server.sample(server.currentStart_s() - 1e-7).p_world_m).norm(), 1e-5);
@@ -351,6 +369,18 @@ TEST(TrajectoryServer, ConfigValidationNamesTheKey) {
   }
   cfg = TrajectoryServerConfig();
   cfg.planner.optimizer.v_max_mps = kNaN;
+  EXPECT_THROW(cfg.validate(), ConfigError);
+  // A check clearance beyond the corridor's would flag every fresh plan.
+  cfg = TrajectoryServerConfig();
+  cfg.collision_check_clearance_m = cfg.planner.corridor.clearance_m + 0.1;
+  try {
+    cfg.validate();
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("collision_check_clearance_m"), std::string::npos);
+  }
+  cfg = TrajectoryServerConfig();
+  cfg.retry_after_failed_plan_s = -1.0;
   EXPECT_THROW(cfg.validate(), ConfigError);
 }
 

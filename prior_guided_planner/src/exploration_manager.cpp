@@ -21,6 +21,8 @@ void ExplorationManagerConfig::validate() const {
   planner.validate();
   requireInRange("replan_period_s", replan_period_s, 0.0, 3600.0);
   requireInRange("target_reached_m", target_reached_m, 1e-3, 1e3);
+  requireInRange("max_goal_distance_m", max_goal_distance_m, 1.0, 1e4);
+  requireInRange("max_goal_climb_m", max_goal_climb_m, 0.5, 1e4);
   if (bounds_world_m) {
     requireThat(bounds_world_m->min().allFinite() && bounds_world_m->max().allFinite(),
                 "bounds_world_m", "corners must be finite");
@@ -130,7 +132,11 @@ bool ExplorationManager::replanDue(double time_s, const RobotPose& robot) const 
   if (!last_plan_time_s_ || hypotheses_changed_) return true;
   if (time_s - *last_plan_time_s_ >= config_.replan_period_s) return true;
   if (!target_.has_goal || !target_.goal_viewpoint_id) return true;
-  if ((robot.position_world_m - target_.goal_world_m).norm() <= config_.target_reached_m)
+  if ((robot.position_world_m - target_.viewpoint_world_m).norm() <= config_.target_reached_m)
+    return true;
+  // Half-way to a stage: the next one is due before the local planner slows down for it.
+  if (target_.goal_world_m != target_.viewpoint_world_m &&
+      (robot.position_world_m - target_.goal_world_m).norm() <= 0.5 * config_.max_goal_distance_m)
     return true;
   for (const auto& [cluster, vps] : viewpoint_manager_.byCluster())
     for (const Viewpoint& v : vps)
@@ -141,7 +147,7 @@ bool ExplorationManager::replanDue(double time_s, const RobotPose& robot) const 
 void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   // A target the robot reached is not planned for again.
   if (target_.has_goal && target_.goal_viewpoint_id &&
-      (robot.position_world_m - target_.goal_world_m).norm() <= config_.target_reached_m)
+      (robot.position_world_m - target_.viewpoint_world_m).norm() <= config_.target_reached_m)
     reached_viewpoint_ids_.insert(*target_.goal_viewpoint_id);
 
   std::map<int, Eigen::Vector3d> centroid;
@@ -217,7 +223,8 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   const PlanViewpoint& goal = viewpoints_[first];
   target_.state = ExplorationState::kExploring;
   target_.has_goal = true;
-  target_.goal_world_m = goal.position_world_m;
+  target_.viewpoint_world_m = goal.position_world_m;
+  target_.goal_world_m = stagedGoal(robot.position_world_m, goal.position_world_m);
   target_.goal_yaw_rad = goal.yaw_rad;
   target_.goal_viewpoint_id = goal.id;
   const auto c = centroid.find(viewpoint_cluster_[first]);
@@ -225,9 +232,36 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   std::ostringstream os;
   os << "exploring (" << toString(plan.mode_used) << "), " << viewpoints_.size()
      << " viewpoint(s), tour of " << plan.tour.viewpoints.size();
+  if (target_.goal_world_m != target_.viewpoint_world_m) os << ", staged goal on the way";
   if (!plan.tour.unreachable_viewpoints.empty())
     os << ", " << plan.tour.unreachable_viewpoints.size() << " unreachable";
   plan_message_ = os.str();
+}
+
+bool ExplorationManager::withinGoalReach(const Eigen::Vector3d& from,
+                                         const Eigen::Vector3d& to) const {
+  return (to - from).head<2>().norm() <= config_.max_goal_distance_m &&
+         std::abs(to.z() - from.z()) <= config_.max_goal_climb_m;
+}
+
+Eigen::Vector3d ExplorationManager::stagedGoal(const Eigen::Vector3d& from,
+                                               const Eigen::Vector3d& viewpoint) {
+  if (withinGoalReach(from, viewpoint)) return viewpoint;
+  const PathSearchResult r = path_cache_.search().search(from, viewpoint);
+  if (!r.length_m || r.waypoints_world_m.size() < 2) return viewpoint;
+  // The last point of the path, walked in small steps, before it first leaves the reach.
+  constexpr double kStep_m = 0.1;
+  Eigen::Vector3d last = r.waypoints_world_m.front();
+  for (size_t i = 0; i + 1 < r.waypoints_world_m.size(); ++i) {
+    const Eigen::Vector3d a = r.waypoints_world_m[i], b = r.waypoints_world_m[i + 1];
+    const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / kStep_m)));
+    for (int k = 1; k <= n; ++k) {
+      const Eigen::Vector3d p = a + (b - a) * (static_cast<double>(k) / n);
+      if (!withinGoalReach(from, p)) return last;
+      last = p;
+    }
+  }
+  return viewpoint;
 }
 
 const HypothesisAttachment* ExplorationManager::activeAttachment() const {

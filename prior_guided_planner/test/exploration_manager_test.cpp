@@ -92,6 +92,39 @@ TEST(ExplorationManager, NoReplanBeforeThePeriodUnlessTheTargetIsReached) {
   }
 }
 
+// A viewpoint beyond max_goal_distance_m reaches the local planner in stages along its path.
+TEST(ExplorationManager, AFarViewpointIsHandedOnInStages) {
+  const Scene room = corridorRoom();
+  const Eigen::Vector3d start(2.0, 0.1, 1.6);
+  ExplorationManager whole(ExplorationManagerConfig{}, std::nullopt);
+  scanFrom(whole, room, start);
+  const ExplorationTarget t_whole = whole.update(0.0, at(start));
+  ASSERT_TRUE(t_whole.has_goal) << t_whole.message;
+  const double vp_distance_m = (t_whole.viewpoint_world_m - start).head<2>().norm();
+  ASSERT_GT(vp_distance_m, 2.0);  // the scene has a far target
+  EXPECT_TRUE(t_whole.goal_world_m.isApprox(t_whole.viewpoint_world_m));
+
+  ExplorationManagerConfig c;
+  c.max_goal_distance_m = 0.5 * vp_distance_m;
+  ExplorationManager staged(c, std::nullopt);
+  scanFrom(staged, room, start);
+  const ExplorationTarget t = staged.update(0.0, at(start));
+  ASSERT_TRUE(t.has_goal) << t.message;
+  EXPECT_TRUE(t.viewpoint_world_m.isApprox(t_whole.viewpoint_world_m));
+  EXPECT_LE((t.goal_world_m - start).head<2>().norm(), c.max_goal_distance_m + 1e-9);
+  EXPECT_GT((t.goal_world_m - start).head<2>().norm(), c.max_goal_distance_m - 0.2);
+  EXPECT_TRUE(staged.occupancy().isSafe(t.goal_world_m, 0.3, false));
+  EXPECT_NE(t.message.find("staged goal"), std::string::npos) << t.message;
+  // Half-way to the stage the next one is planned, closer to the viewpoint.
+  const Eigen::Vector3d mid = 0.5 * (start + t.goal_world_m);
+  const Eigen::Vector3d stage1 = t.goal_world_m;
+  const ExplorationTarget& t2 = staged.update(0.1, at(mid + 0.3 * (stage1 - mid)));
+  EXPECT_TRUE(t2.replanned);
+  ASSERT_TRUE(t2.has_goal);
+  EXPECT_LT((t2.goal_world_m - t2.viewpoint_world_m).norm(),
+            (stage1 - t2.viewpoint_world_m).norm() - 0.5);
+}
+
 // Flying from goal to goal (a scan at each) explores the closed room; the manager then reports
 // kFinished, and each reached goal moved on.
 TEST(ExplorationManager, ClosedLoopFinishesAClosedRoom) {

@@ -247,20 +247,20 @@ namespace {
 // A reference along a circle of radius R at z = 2 m: speed v0 until t_loss, then slowing
 // linearly to rest within stop_s (what minco_traj serves when odometry is lost on a curve).
 FlatReference curvingStop(double R, double v0, double t_loss, double stop_s, double t) {
-    double s = v0 * t, sd = v0, sdd = 0.0;
-    if (t > t_loss) {
-      const double d = std::min(t - t_loss, stop_s);
-      s = v0 * t_loss + v0 * d - 0.5 * v0 / stop_s * d * d;
-      sd = v0 * (1.0 - d / stop_s);
-      sdd = t - t_loss < stop_s ? -v0 / stop_s : 0.0;
-    }
-    const double th = s / R;
-    const Eigen::Vector3d T(-std::sin(th), std::cos(th), 0), N(-std::cos(th), -std::sin(th), 0);
-    FlatReference r;
-    r.stamp_s = t;
-    r.p_world_m = Eigen::Vector3d(R * std::cos(th), R * std::sin(th), 2.0);
-    r.v_world_mps = sd * T;
-    r.a_world_mps2 = sdd * T + sd * sd / R * N;
+  double s = v0 * t, sd = v0, sdd = 0.0;
+  if (t > t_loss) {
+    const double d = std::min(t - t_loss, stop_s);
+    s = v0 * t_loss + v0 * d - 0.5 * v0 / stop_s * d * d;
+    sd = v0 * (1.0 - d / stop_s);
+    sdd = t - t_loss < stop_s ? -v0 / stop_s : 0.0;
+  }
+  const double th = s / R;
+  const Eigen::Vector3d T(-std::sin(th), std::cos(th), 0), N(-std::cos(th), -std::sin(th), 0);
+  FlatReference r;
+  r.stamp_s = t;
+  r.p_world_m = Eigen::Vector3d(R * std::cos(th), R * std::sin(th), 2.0);
+  r.v_world_mps = sd * T;
+  r.a_world_mps2 = sdd * T + sd * sd / R * N;
   return r;
 }
 

@@ -369,7 +369,9 @@ TEST(PlannerMarkers, EveryPartOfThePlanIsDrawn) {
     if (mk.action != visualization_msgs::Marker::ADD) continue;
     EXPECT_EQ(mk.header.frame_id, "world");
     if (mk.type == visualization_msgs::Marker::ARROW || !mk.points.empty()) drawn.insert(mk.ns);
-    if (!mk.colors.empty()) EXPECT_EQ(mk.colors.size(), mk.points.size()) << mk.ns;
+    if (!mk.colors.empty()) {
+      EXPECT_EQ(mk.colors.size(), mk.points.size()) << mk.ns;
+    }
   }
   for (const char* ns :
        {"viewpoints", "guidepoints", "guidepoint_sequence", "tour", "goal", "frontiers"})
@@ -377,7 +379,9 @@ TEST(PlannerMarkers, EveryPartOfThePlanIsDrawn) {
   efs::planner::PlannerMarkerOptions few;
   few.max_frontier_cells = 10;
   for (const auto& mk : efs::planner::plannerMarkers(m, robot, h, few).markers)
-    if (mk.ns == "frontiers") EXPECT_LE(mk.points.size(), 10u);
+    if (mk.ns == "frontiers") {
+      EXPECT_LE(mk.points.size(), 10u);
+    }
 }
 
 // Bad configuration stops the node at start-up with one message naming the parameter.

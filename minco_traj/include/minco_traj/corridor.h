@@ -54,7 +54,7 @@ struct Polytope {
 };
 
 struct CorridorConfig {
-  double clearance_m = 0.45;        ///< obstacles stay this far outside (the vehicle radius)
+  double clearance_m = 0.45;       ///< obstacles stay this far outside (the vehicle radius)
   double box_margin_m = 1.0;       ///< each polytope lies in the seed's bounding box + margin
   double max_seed_length_m = 4.0;  ///< longer path segments are split into several seeds
   int iterations = 2;              ///< half-space / ellipsoid alternations

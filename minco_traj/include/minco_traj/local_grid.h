@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -88,6 +89,9 @@ class LocalGrid {
   /// Not traversable: outside, inflated, or unknown when !unknown_is_free.
   bool isBlocked(const VoxelKey& k, bool unknown_is_free) const;
 
+  /// Distance from p to the nearest occupied cell centre, if one lies within radius_m.
+  std::optional<double> nearestOccupiedDistance(const Eigen::Vector3d& p_world_m,
+                                                double radius_m) const;
   /// Centres of occupied cells whose centres lie in [lo, hi]. With surface_only, cells whose six
   /// face neighbours are all occupied are left out (they cannot be nearer to free space than
   /// their neighbours by more than one cell).

@@ -78,10 +78,13 @@ class LocalPlanner {
   const LocalPlannerConfig& config() const { return cfg_; }
   PlanResult plan(const LocalGrid& grid, const PlanRequest& req) const;
 
-  /// First time in [t_from_s, t_from_s + horizon_s] at which the trajectory enters an occupied
-  /// cell, sampled every dt_s; negative if none (the replanning trigger on new scans).
+  /// First time in [t_from_s, t_from_s + horizon_s] at which the trajectory passes within
+  /// clearance_m of an occupied cell centre, closer than it is at t_from_s (a trajectory that
+  /// escapes from a wall it is already near is not a threat), sampled every dt_s; negative if
+  /// none. The replanning trigger on new scans: an obstacle seen beside the path, not only on
+  /// it, counts (the vehicle has a radius).
   static double firstCollisionTime(const Trajectory& traj, const LocalGrid& grid, double t_from_s,
-                                   double horizon_s, double dt_s = 0.02);
+                                   double horizon_s, double clearance_m = 0.35, double dt_s = 0.02);
 
  private:
   PlanResult fail(PlanStatus s, const std::string& msg, const PlanRequest& req,

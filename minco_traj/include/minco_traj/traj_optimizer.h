@@ -42,7 +42,10 @@ struct TrajOptConfig {
   int max_retries = 2;
   // Feasibility check of the result.
   double check_dt_s = 0.01;
-  double velocity_tolerance = 0.02;  ///< v <= v_max * (1 + this)
+  /// v <= max(v_max, |v(0)|) * (1 + this): a plan may start faster than the limit, not speed up
+  double velocity_tolerance = 0.02;
+  /// a <= max(a_max, |a(0)|) * (1 + this): e.g. plans that start from an emergency brake at a_max
+  double acceleration_tolerance = 0.02;
   double corridor_tolerance_m = 1e-3;
   LbfgsConfig lbfgs;
   void validate() const;

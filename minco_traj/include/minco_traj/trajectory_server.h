@@ -12,8 +12,12 @@
 //     so p, v, a are continuous at the switch; the previous trajectory keeps being sampled until
 //     then. Without a reference, or when the vehicle is farther than max_tracking_error_m from
 //     it (a kick, a crash into the wall of reality), the plan starts from the vehicle state;
-//   * a failed plan switches to the planner's emergency stop (braking at the acceleration limit)
-//     once; while stopping, later failures keep the same stop so the reference stays smooth.
+//   * a failed plan keeps the current trajectory when nothing threatens it (it was checked and
+//     no collision is predicted on it) and retries after retry_after_failed_plan_s: a straight
+//     brake from a curve can leave the checked path (seen: a cave wall touched after an
+//     optimiser failure on a new goal). Otherwise (a predicted collision, lost tracking) it
+//     switches to the planner's emergency stop (braking at the acceleration limit) once; while
+//     stopping, later failures keep the same stop so the reference stays smooth.
 // Time is injected; nothing here reads a clock.
 #pragma once
 
@@ -34,9 +38,14 @@ struct TrajectoryServerConfig {
   double replan_period_s = 1.0;             ///< replan at least this often while flying to a goal
   double replan_horizon_remaining_s = 0.5;  ///< replan when the trajectory ends sooner than this
   double collision_check_horizon_s = 2.0;   ///< collision prediction on each new scan
+  /// An occupied cell centre this close to the trajectory ahead is a predicted collision:
+  /// collision radius 0.25 m + half a cell + 0.05 m; below the corridor clearance, so a fresh
+  /// plan never triggers it.
+  double collision_check_clearance_m = 0.35;
   double goal_reached_m = 0.3;
   double plan_from_future_s = 0.05;   ///< start state sampled this far ahead (compute latency)
   double max_tracking_error_m = 1.0;  ///< farther from the reference: plan from the vehicle state
+  double retry_after_failed_plan_s = 0.2;  ///< a failed plan that kept the course is retried then
   /// The grid window follows the sensor in horizontal steps of this size (vertical: a quarter
   /// of the window height); recentring costs a pass over the window.
   double recenter_distance_m = 2.0;
@@ -54,7 +63,14 @@ struct ReferenceSample {
   bool valid = false;  ///< false until the first trajectory / hold point exists
 };
 
-enum class ServerEvent { kNone, kReplanned, kEmergencyStop, kGoalReached, kRejectedInput };
+enum class ServerEvent {
+  kNone,
+  kReplanned,
+  kPlanFailedKeptCourse,  ///< the plan failed; the current, still clear trajectory is kept
+  kEmergencyStop,
+  kGoalReached,
+  kRejectedInput
+};
 const char* toString(ServerEvent e);
 
 struct VehicleState {
@@ -136,6 +152,7 @@ class TrajectoryServer {
   std::optional<PlanResult> last_plan_;
   std::optional<Eigen::Vector3d> goal_, look_at_;
   bool new_goal_ = false;
+  std::optional<double> retry_at_s_;  ///< a failed plan that kept the course is retried then
   bool collision_predicted_ = false;
   bool stopping_ = false;
   double last_replan_s_ = 0.0;

@@ -23,9 +23,11 @@ MincoTrajNodeConfig loadMincoTrajNodeConfig(const ros::NodeHandle& private_nh) {
   p.get("replan_period_s", s.replan_period_s);
   p.get("replan_horizon_remaining_s", s.replan_horizon_remaining_s);
   p.get("collision_check_horizon_s", s.collision_check_horizon_s);
+  p.get("collision_check_clearance_m", s.collision_check_clearance_m);
   p.get("goal_reached_m", s.goal_reached_m);
   p.get("plan_from_future_s", s.plan_from_future_s);
   p.get("max_tracking_error_m", s.max_tracking_error_m);
+  p.get("retry_after_failed_plan_s", s.retry_after_failed_plan_s);
   p.get("recenter_distance_m", s.recenter_distance_m);
   p.get("grid/resolution_m", s.grid.resolution_m);
   p.get("grid/size_x_m", s.grid.size_x_m);
@@ -132,6 +134,8 @@ void MincoTrajNode::onTimer(const ros::TimerEvent&) {
     if (e == ServerEvent::kReplanned || e == ServerEvent::kEmergencyStop) publishTrajectory(now, e);
     if (e == ServerEvent::kEmergencyStop)
       ROS_WARN("minco_traj: emergency stop: %s", server_.lastMessage().c_str());
+    if (e == ServerEvent::kPlanFailedKeptCourse)
+      ROS_WARN_THROTTLE(1.0, "minco_traj: %s", server_.lastMessage().c_str());
     if (e == ServerEvent::kRejectedInput)
       ROS_WARN_THROTTLE(1.0, "minco_traj: %s", server_.lastMessage().c_str());
     if (e == ServerEvent::kGoalReached) {

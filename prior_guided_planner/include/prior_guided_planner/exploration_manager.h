@@ -11,8 +11,9 @@
 // reached (within `target_reached_m`), the target viewpoint disappeared (its frontier was
 // observed), or new hypotheses arrived. A reached viewpoint is not planned for again (its id is
 // remembered; a re-sampled cluster gets new ids), so the robot never circles one viewpoint whose
-// frontier the scans cannot clear. kFinished when no viewpoint remains, kStuck when viewpoints
-// exist but none is reachable.
+// frontier the scans cannot clear. A far target is handed on in stages along its searched path
+// (max_goal_distance_m), the next stage planned once the robot is half-way to the current one.
+// kFinished when no viewpoint remains, kStuck when viewpoints exist but none is reachable.
 #pragma once
 
 #include <Eigen/Core>
@@ -44,6 +45,12 @@ struct ExplorationManagerConfig {
   double replan_period_s = 1.0;
   /// The target counts as reached when the robot is this close to it [m].
   double target_reached_m = 1.0;
+  /// A target viewpoint farther than this horizontally (or max_goal_climb_m vertically) is
+  /// handed to the local planner in stages: the point of the searched path at that distance.
+  /// The local planner sees a window around the robot only (minco_traj: 24 x 24 x 6 m); a goal
+  /// beyond it was clamped into rock and searched for in vain (seen: 20 s hovering in a cave).
+  double max_goal_distance_m = 8.0;
+  double max_goal_climb_m = 2.0;
   /// Exploration box if known (guidepoints far outside it are ignored); std::nullopt = unknown.
   std::optional<Eigen::AlignedBox3d> bounds_world_m;
   /// Throws efs::ConfigError naming the key.
@@ -57,9 +64,12 @@ const char* toString(ExplorationState s);
 struct ExplorationTarget {
   ExplorationState state = ExplorationState::kWaitingForData;
   bool has_goal = false;
-  Eigen::Vector3d goal_world_m = Eigen::Vector3d::Zero();     ///< next viewpoint position
-  double goal_yaw_rad = 0.0;                                  ///< its yaw
-  Eigen::Vector3d look_at_world_m = Eigen::Vector3d::Zero();  ///< frontier cluster centroid
+  /// Where the local planner flies now: the next viewpoint, or the stage on the searched path
+  /// to it when it is farther than max_goal_distance_m / max_goal_climb_m.
+  Eigen::Vector3d goal_world_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d viewpoint_world_m = Eigen::Vector3d::Zero();  ///< next viewpoint position
+  double goal_yaw_rad = 0.0;                                    ///< its yaw
+  Eigen::Vector3d look_at_world_m = Eigen::Vector3d::Zero();    ///< frontier cluster centroid
   std::optional<int> goal_viewpoint_id;
   std::vector<Eigen::Vector3d> tour_world_m;  ///< local tour (viewpoint positions) for display
   std::optional<int> active_hypothesis_id;
@@ -122,6 +132,10 @@ class ExplorationManager {
   void refreshMapProducts();
   bool replanDue(double time_s, const RobotPose& robot) const;
   void replan(double time_s, const RobotPose& robot);
+  /// The goal for the local planner on the way from `from` to `viewpoint` (see
+  /// max_goal_distance_m); the viewpoint itself when near enough or when no path is found.
+  Eigen::Vector3d stagedGoal(const Eigen::Vector3d& from, const Eigen::Vector3d& viewpoint);
+  bool withinGoalReach(const Eigen::Vector3d& from, const Eigen::Vector3d& to) const;
 
   ExplorationManagerConfig config_;
   std::optional<GuidepointPrior> prior_;

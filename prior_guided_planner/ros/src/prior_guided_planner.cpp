@@ -50,6 +50,8 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   e.planner.mode = parseBaselineMode(mode, private_nh.resolveName("mode"));
   p.get("replan_period_s", e.replan_period_s);
   p.get("target_reached_m", e.target_reached_m);
+  p.get("max_goal_distance_m", e.max_goal_distance_m);
+  p.get("max_goal_climb_m", e.max_goal_climb_m);
   std::vector<double> lo, hi;
   p.get("bounds_min_m", lo);
   p.get("bounds_max_m", hi);
