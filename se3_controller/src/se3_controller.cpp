@@ -124,7 +124,9 @@ Se3Controller::Se3Controller(const Se3ControllerConfig& cfg) : cfg_(cfg) {
 }
 
 void Se3Controller::reset() {
-  have_odom_ = holding_ = descending_ = have_acc_stamp_ = false;
+  have_odom_ = holding_ = descending_ = have_acc_stamp_ = reckoning_ = have_imu_ = false;
+  imu_stamp_s_ = 0.0;
+  imu_samples_.clear();
   hover_throttle_ = cfg_.hover_throttle_initial;
   last_thrust_cmd_ = 0.0;
 }
@@ -226,8 +228,15 @@ ControlOutput Se3Controller::levelDescend(double now_s) {
 void Se3Controller::observeImu(const Eigen::Vector3d& a_world_mps2, double stamp_s) {
   if (!a_world_mps2.allFinite() || !std::isfinite(stamp_s)) return;
   have_imu_ = true;
-  imu_stamp_s_ = stamp_s;
-  imu_accel_world_ = a_world_mps2;
+  if (stamp_s >= imu_stamp_s_) {
+    imu_stamp_s_ = stamp_s;
+    imu_accel_world_ = a_world_mps2;
+  }
+  if (have_odom_ && stamp_s <= last_odom_.stamp_s) return;  // before the state it would advance
+  auto it = imu_samples_.end();
+  while (it != imu_samples_.begin() && std::prev(it)->stamp_s > stamp_s) --it;
+  imu_samples_.insert(it, {stamp_s, a_world_mps2});
+  if (imu_samples_.size() > kMaxImuSamples) imu_samples_.pop_front();
 }
 
 ControlOutput Se3Controller::update(const OdometryState& odom, const FlatReference& ref,
@@ -245,6 +254,8 @@ ControlOutput Se3Controller::update(const OdometryState& odom, const FlatReferen
     last_odom_ = odom;
     last_odom_.q_world_body.normalize();
     have_odom_ = true;
+    while (!imu_samples_.empty() && imu_samples_.front().stamp_s <= last_odom_.stamp_s)
+      imu_samples_.pop_front();
   } else {
     why << "odometry rejected (non-finite value); ";
   }
@@ -278,13 +289,30 @@ ControlOutput Se3Controller::update(const OdometryState& odom, const FlatReferen
         cfg_.dead_reckoning_lag_s > 0.0 ? 1.0 - std::exp(-dt / cfg_.dead_reckoning_lag_s) : 1.0;
     const bool imu_fresh =
         have_imu_ && std::isfinite(imu_stamp_s_) && now_s - imu_stamp_s_ <= cfg_.imu_max_age_s;
-    if (imu_fresh) {
+    auto advance = [this](double dt_s, const Eigen::Vector3d& a) {
+      reckoned_p_ += dt_s * reckoned_v_ + 0.5 * dt_s * dt_s * a;
+      reckoned_v_ += dt_s * a;
+    };
+    if (imu_fresh && !imu_samples_.empty()) {
+      // From the last odometry again each step, so late samples are not lost.
+      reckoned_p_ = last_odom_.p_world_m;
+      reckoned_v_ = last_odom_.v_world_mps;
+      double t = last_odom_.stamp_s;
+      for (const ImuSample& sample : imu_samples_) {
+        if (sample.stamp_s > now_s) break;
+        advance(sample.stamp_s - t, sample.a_world_mps2);
+        t = sample.stamp_s;
+      }
       reckoned_a_ = imu_accel_world_;
+      advance(std::max(0.0, now_s - t), reckoned_a_);
     } else {
-      reckoned_a_ += blend * (last_accel_cmd_ - reckoned_a_);
+      if (imu_fresh) {
+        reckoned_a_ = imu_accel_world_;
+      } else {
+        reckoned_a_ += blend * (last_accel_cmd_ - reckoned_a_);
+      }
+      advance(dt, reckoned_a_);
     }
-    reckoned_p_ += dt * reckoned_v_ + 0.5 * dt * dt * reckoned_a_;
-    reckoned_v_ += dt * reckoned_a_;
     reckoning_stamp_s_ = now_s;
     OdometryState reckoned = last_odom_;
     reckoned.p_world_m = reckoned_p_;

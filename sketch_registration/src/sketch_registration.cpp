@@ -28,6 +28,8 @@ const char* toString(RegistrationStatus status) {
       return "odometry_jump";
     case RegistrationStatus::kMirroredSketch:
       return "mirrored_sketch";
+    case RegistrationStatus::kAwaitingConfirmation:
+      return "awaiting_confirmation";
   }
   return "unknown";
 }
@@ -42,6 +44,7 @@ void SketchRegistrationConfig::validate() const {
               "must be >= fitness_threshold_m (a kept hypothesis is held to a looser bound)");
   requireThat(kept_min_inlier_ratio >= 0.0 && kept_min_inlier_ratio <= icp.min_inlier_ratio,
               "kept_min_inlier_ratio", "must be in [0, min_inlier_ratio]");
+  requireInRange("confirm_frames", confirm_frames, 1, 100);
   requireInRange("confidence_tau", confidence_tau, 0.0, 1e3);
   requirePositive("max_speed_mps", max_speed_mps);
   requireInRange("max_icp_inputs", max_icp_inputs, 1, 100000);
@@ -197,11 +200,14 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
 
   result_.hypotheses.clear();
   result_.mirrored_hypotheses.clear();
+  size_t awaiting = 0;
   for (const Hypothesis& h : live_) {
     if (h.T_world_sketch.reflected && config_.reflection == ReflectionMode::kDetect) {
       result_.mirrored_hypotheses.push_back(h);
-    } else {
+    } else if (h.age_frames >= config_.confirm_frames) {
       result_.hypotheses.push_back(h);
+    } else {
+      ++awaiting;
     }
   }
   auto softmax = [&](std::vector<Hypothesis>& hs) {
@@ -227,6 +233,10 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
     result_.status = RegistrationStatus::kMirroredSketch;
     os << "only mirror-image transforms fit the sketch (best F = "
        << result_.mirrored_hypotheses[0].fitness_m << " m): the sketch looks mirrored";
+  } else if (awaiting > 0) {
+    result_.status = RegistrationStatus::kAwaitingConfirmation;
+    os << awaiting << " new transform(s) passed the fitness test; reported once confirmed on "
+       << config_.confirm_frames << " consecutive frames";
   } else if (verifier_.numFrames() < 3) {
     result_.status = RegistrationStatus::kTooFewFrames;
     os << verifier_.numFrames() << " of 3 frames"
@@ -296,9 +306,11 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
     const IcpResult r = icp_->refine(
         in.T, icp_points, in.id ? 1.5 * config_.icp.min_correspondence_m : 0.0, &observed);
     ++diag.icp_runs;
+    const bool confirmed = in.id && in.age >= config_.confirm_frames;
     const double max_fitness =
-        in.id ? config_.kept_fitness_threshold_m : config_.fitness_threshold_m;
-    const double min_inliers = in.id ? config_.kept_min_inlier_ratio : config_.icp.min_inlier_ratio;
+        confirmed ? config_.kept_fitness_threshold_m : config_.fitness_threshold_m;
+    const double min_inliers =
+        confirmed ? config_.kept_min_inlier_ratio : config_.icp.min_inlier_ratio;
     if (!r.usable || !(r.inlier_ratio >= min_inliers) || !(r.fitness_m <= max_fitness)) {
       if (!in.id) rejected_.push_back({in.T, frame_counter_});
       continue;

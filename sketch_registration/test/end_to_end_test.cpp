@@ -90,6 +90,32 @@ TEST(EndToEnd, OfficeBestHypothesisWithinOneMetre) {
   EXPECT_NEAR(total, 1.0, 1e-9);
 }
 
+// A new transform is reported only on its second consecutive fitting frame: the frame before
+// the first kOk says it awaits confirmation. With confirm_frames = 1 it is reported at once.
+TEST(EndToEnd, ANewHypothesisIsReportedOnceConfirmed) {
+  const Sim2 truth(2.0, 1.3, Vector2d(15.0, -7.0));
+  const syn::Scenario sc = officeScenario(truth);
+  const auto statusesWith = [&](int confirm_frames) {
+    SketchRegistration::Config config;
+    config.confirm_frames = confirm_frames;
+    SketchRegistration reg(config, sc.sketch_points_m, sc.candidates_m);
+    return runScenario(sc, reg).statuses;
+  };
+  const auto firstOk = [](const std::vector<RegistrationStatus>& s) {
+    return std::find(s.begin(), s.end(), RegistrationStatus::kOk) - s.begin();
+  };
+  const std::vector<RegistrationStatus> confirmed = statusesWith(2);
+  const auto k = static_cast<size_t>(firstOk(confirmed));
+  ASSERT_LT(k, confirmed.size()) << "never registered";
+  ASSERT_GE(k, 1u);
+  EXPECT_EQ(confirmed[k - 1], RegistrationStatus::kAwaitingConfirmation)
+      << toString(confirmed[k - 1]);
+  const std::vector<RegistrationStatus> at_once = statusesWith(1);
+  EXPECT_EQ(static_cast<size_t>(firstOk(at_once)), k - 1);
+  EXPECT_EQ(std::count(at_once.begin(), at_once.end(), RegistrationStatus::kAwaitingConfirmation),
+            0);
+}
+
 TEST(EndToEnd, HypothesisIdIsStableOnceConverged) {
   const Sim2 truth(-0.7, 0.8, Vector2d(-20.0, 40.0));
   const syn::Scenario sc = officeScenario(truth);

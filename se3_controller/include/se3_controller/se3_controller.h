@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <deque>
 #include <string>
 
 namespace efs::control {
@@ -168,8 +169,10 @@ class Se3Controller {
   void observeAcceleration(const Eigen::Vector3d& a_world_mps2,
                            const Eigen::Quaterniond& q_world_body, double dt_s);
   double hoverThrottle() const { return hover_throttle_; }
-  /// The latest IMU acceleration (world frame, gravity removed) at stamp_s (the clock of
-  /// update()): dead reckoning through an odometry loss integrates it while it is recent.
+  /// One IMU acceleration (world frame, gravity removed) at stamp_s (the clock of update()).
+  /// Dead reckoning through an odometry loss integrates every sample since the last odometry,
+  /// each over the interval it ends, from the last odometry state on every control step: samples
+  /// that arrive late or in bursts (a loaded onboard computer) still count, and in full.
   void observeImu(const Eigen::Vector3d& a_world_mps2, double stamp_s);
   void reset();
 
@@ -196,6 +199,13 @@ class Se3Controller {
   bool have_imu_ = false;
   double imu_stamp_s_ = 0.0;
   Eigen::Vector3d imu_accel_world_ = Eigen::Vector3d::Zero();
+  struct ImuSample {
+    double stamp_s;
+    Eigen::Vector3d a_world_mps2;
+  };
+  /// Samples newer than the last odometry, in stamp order (bounded: kMaxImuSamples).
+  std::deque<ImuSample> imu_samples_;
+  static constexpr size_t kMaxImuSamples = 4000;
   double descent_start_s_ = 0.0;
   Eigen::Vector2d brake_velocity_mps_ = Eigen::Vector2d::Zero();  ///< at the onset of the descent
   double hover_throttle_ = 0.5;

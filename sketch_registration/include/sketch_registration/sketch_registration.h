@@ -40,6 +40,7 @@ enum class RegistrationStatus {
   kBadInput,              ///< this frame was unusable (empty / non-finite map, time, position)
   kOdometryJump,          ///< the robot jumped; the multi-frame state was restarted
   kMirroredSketch,        ///< only mirror-image transforms fit (kDetect mode)
+  kAwaitingConfirmation,  ///< a new transform passed the fitness test; not yet on confirm_frames
 };
 const char* toString(RegistrationStatus status);
 
@@ -49,7 +50,8 @@ struct Hypothesis {
   double fitness_m = 0.0;   ///< F
   double confidence = 0.0;  ///< softmax(-tau F) over the reported hypotheses
   double inlier_ratio = 0.0;
-  int age_frames = 0;  ///< frames since first reported
+  int age_frames =
+      0;  ///< consecutive frames it passed the fitness test (reported from confirm_frames)
 };
 
 struct FrameDiagnostics {
@@ -93,6 +95,10 @@ struct SketchRegistrationConfig {
   /// place.
   double kept_fitness_threshold_m = 0.8;
   double kept_min_inlier_ratio = 0.6;
+  /// A new transform is reported once it passed the new-hypothesis bounds on this many
+  /// consecutive frames (the looser kept bounds apply only after that). A wrong place can fit
+  /// one frame's map well (seen: F 0.29 m for a sketch of another cave) but not the next one's.
+  int confirm_frames = 2;
   double confidence_tau = 0.3;  ///< tau
   double max_speed_mps = 20.0;  ///< faster between frames = odometry jump
   ReflectionMode reflection = ReflectionMode::kDetect;

@@ -21,6 +21,8 @@ uint8_t toStatusConstant(RegistrationStatus status) {
       return RegistrationHypotheses::STATUS_ALL_REJECTED_BY_FITNESS;
     case RegistrationStatus::kNoCandidates:
       return RegistrationHypotheses::STATUS_NO_CANDIDATES;
+    case RegistrationStatus::kAwaitingConfirmation:
+      return RegistrationHypotheses::STATUS_AWAITING_CONFIRMATION;
     case RegistrationStatus::kBadInput:
     case RegistrationStatus::kOdometryJump:
       return RegistrationHypotheses::STATUS_BAD_INPUT;

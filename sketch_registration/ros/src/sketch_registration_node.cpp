@@ -59,6 +59,7 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   p.get("kept_fitness_threshold_m", r.kept_fitness_threshold_m);
   p.get("min_inlier_ratio", r.icp.min_inlier_ratio);
   p.get("kept_min_inlier_ratio", r.kept_min_inlier_ratio);
+  p.get("confirm_frames", r.confirm_frames);
   p.get("wall_columns", r.observation.wall_columns);
   p.get("slice_min_dz_m", r.observation.slice_min_dz_m);
   p.get("slice_max_dz_m", r.observation.slice_max_dz_m);
