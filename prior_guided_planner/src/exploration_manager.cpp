@@ -229,6 +229,11 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   target_.goal_viewpoint_id = goal.id;
   const auto c = centroid.find(viewpoint_cluster_[first]);
   target_.look_at_world_m = c != centroid.end() ? c->second : goal.position_world_m;
+  // In transit the sensor looks where the vehicle goes: the Mid-360 sees little below the
+  // horizon behind it, and the local planner's map of a passage flown before is forgotten (seen:
+  // a cave floor hit flying back down a sloping passage with the sensor facing the far target).
+  if (target_.goal_world_m != target_.viewpoint_world_m)
+    target_.look_at_world_m = target_.goal_world_m;
   std::ostringstream os;
   os << "exploring (" << toString(plan.mode_used) << "), " << viewpoints_.size()
      << " viewpoint(s), tour of " << plan.tour.viewpoints.size();

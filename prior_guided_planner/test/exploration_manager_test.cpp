@@ -115,6 +115,8 @@ TEST(ExplorationManager, AFarViewpointIsHandedOnInStages) {
   EXPECT_GT((t.goal_world_m - start).head<2>().norm(), c.max_goal_distance_m - 0.2);
   EXPECT_TRUE(staged.occupancy().isSafe(t.goal_world_m, 0.3, false));
   EXPECT_NE(t.message.find("staged goal"), std::string::npos) << t.message;
+  EXPECT_TRUE(t.look_at_world_m.isApprox(t.goal_world_m));               // facing the way it flies
+  EXPECT_FALSE(t_whole.look_at_world_m.isApprox(t_whole.goal_world_m));  // facing the frontier
   // Half-way to the stage the next one is planned, closer to the viewpoint.
   const Eigen::Vector3d mid = 0.5 * (start + t.goal_world_m);
   const Eigen::Vector3d stage1 = t.goal_world_m;

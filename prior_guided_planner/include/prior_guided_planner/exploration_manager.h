@@ -69,7 +69,9 @@ struct ExplorationTarget {
   Eigen::Vector3d goal_world_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d viewpoint_world_m = Eigen::Vector3d::Zero();  ///< next viewpoint position
   double goal_yaw_rad = 0.0;                                    ///< its yaw
-  Eigen::Vector3d look_at_world_m = Eigen::Vector3d::Zero();    ///< frontier cluster centroid
+  /// Where the sensor should face: the viewpoint's frontier cluster, or the staged goal in
+  /// transit (the direction of travel).
+  Eigen::Vector3d look_at_world_m = Eigen::Vector3d::Zero();
   std::optional<int> goal_viewpoint_id;
   std::vector<Eigen::Vector3d> tour_world_m;  ///< local tour (viewpoint positions) for display
   std::optional<int> active_hypothesis_id;
