@@ -174,6 +174,11 @@ bool ExplorationMission::step() {
   o.v_world_mps = odom.v_world_m_s;
   o.q_world_body = odom.q_world_body;
   o.omega_body_radps = odom.omega_body_rad_s;
+  if (t >= next_clearance_check_s_) {
+    next_clearance_check_s_ = t + 0.1;
+    log_.min_clearance_m = std::min(
+        log_.min_clearance_m, session_->world().clearance(sim.groundTruth().p_world_m, 2.0));
+  }
   if (sample.valid) {
     const double e = (sample.p_world_m - sim.groundTruth().p_world_m).norm();
     log_.max_tracking_error_m = std::max(log_.max_tracking_error_m, e);

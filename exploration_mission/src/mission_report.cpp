@@ -117,6 +117,7 @@ MissionReport makeReport(const ExplorationMission& mission, const std::string& w
   r.planner_cycles = log.planner_cycles;
   r.max_tracking_error_m = log.max_tracking_error_m;
   r.rms_tracking_error_m = log.rms_tracking_error_m;
+  r.min_clearance_m = log.min_clearance_m;
   r.registration_cpu_s = log.registration_cpu_s;
   r.planner_cpu_s = log.planner_cpu_s;
   r.trajectory_cpu_s = log.trajectory_cpu_s;
@@ -181,6 +182,7 @@ std::string toJson(const MissionReport& r) {
     << "  \"planner_cycles\": " << r.planner_cycles << ",\n"
     << "  \"tracking_error_m\": {\"max\": " << jsonNumber(r.max_tracking_error_m)
     << ", \"rms\": " << jsonNumber(r.rms_tracking_error_m) << "},\n"
+    << "  \"min_clearance_m\": " << jsonNumber(r.min_clearance_m) << ",\n"
     << "  \"cpu_s\": {\"registration\": " << jsonNumber(r.registration_cpu_s)
     << ", \"planner\": " << jsonNumber(r.planner_cpu_s)
     << ", \"trajectory\": " << jsonNumber(r.trajectory_cpu_s)
@@ -215,6 +217,8 @@ std::string toMarkdown(const MissionReport& r) {
     << " / " << r.planner_cycles << " |\n"
     << "| tracking error max / RMS | " << fmt(r.max_tracking_error_m, 2) << " / "
     << fmt(r.rms_tracking_error_m, 2) << " m |\n"
+    << "| closest approach to the world (centre; collision radius 0.25 m) | "
+    << fmt(r.min_clearance_m, 2) << " m |\n"
     << "| CPU: registration / planner / trajectory / simulator | " << fmt(r.registration_cpu_s, 1)
     << " / " << fmt(r.planner_cpu_s, 1) << " / " << fmt(r.trajectory_cpu_s, 1) << " / "
     << fmt(r.simulator_cpu_s, 1) << " s |\n";

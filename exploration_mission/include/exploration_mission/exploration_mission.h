@@ -57,6 +57,9 @@ struct MissionLog {
   size_t replans = 0, emergency_stops = 0, planner_cycles = 0;
   /// Distance between the reference and the true position, over the flight (RMS set at the end).
   double max_tracking_error_m = 0.0, rms_tracking_error_m = 0.0;
+  /// Closest the vehicle's centre came to the world's surface (sampled at 10 Hz, capped at 2 m;
+  /// the simulator's collision radius is 0.25 m): the safety margin the flight kept.
+  double min_clearance_m = 2.0;
   double registration_cpu_s = 0.0, planner_cpu_s = 0.0, trajectory_cpu_s = 0.0;
   double simulator_cpu_s = 0.0;
 };
@@ -123,6 +126,7 @@ class ExplorationMission {
   double next_trajectory_log_s_ = 0.0;
   double tracking_error_sq_sum_ = 0.0;
   size_t tracking_samples_ = 0;
+  double next_clearance_check_s_ = 0.0;
   std::optional<Eigen::Vector3d> current_goal_;
   Eigen::Vector3d hold_position_m_ = Eigen::Vector3d::Zero();
   double hold_yaw_rad_ = 0.0;

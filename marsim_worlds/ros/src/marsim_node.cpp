@@ -40,6 +40,7 @@ MarsimNodeConfig loadMarsimNodeConfig(const ros::NodeHandle& private_nh) {
   p.get("start_index", c.session.start_index);
   p.get("real_time_factor", c.real_time_factor);
   p.get("step_s", c.step_s);
+  p.get("max_lag_s", c.max_lag_s);
   p.get("max_duration_s", c.max_duration_s);
   p.get("publish_clock", c.publish_clock);
   p.get("publish_twist", c.messages.publish_twist);
@@ -67,6 +68,7 @@ MarsimNodeConfig loadMarsimNodeConfig(const ros::NodeHandle& private_nh) {
 
   requireInRange("real_time_factor", c.real_time_factor, 0.0, 10000.0);
   requireInRange("step_s", c.step_s, 1e-4, 0.1);
+  requireInRange("max_lag_s", c.max_lag_s, 0.0, 10.0);
   requireInRange("max_duration_s", c.max_duration_s, 0.0, 1e6);
   requireInRange("status_rate_hz", c.status_rate_hz, 0.1, 1000.0);
   requireInRange("lio_dropout_start_s", c.lio_dropout_start_s, 0.0, 1e6);
@@ -194,6 +196,7 @@ void MarsimNode::publishOutputs(double wall_elapsed_s) {
 
 void MarsimNode::run() {
   const auto wall_start = std::chrono::steady_clock::now();
+  double wall_behind_s = 0.0;  // wall time the simulation gave up on catching up (slow-down)
   double t = 0.0;
   publishOutputs(0.0);
   while (ros::ok()) {
@@ -209,8 +212,13 @@ void MarsimNode::run() {
     publishOutputs(wall_s);
     ros::spinOnce();
     if (config_.real_time_factor > 0.0) {
-      const double ahead_s = t / config_.real_time_factor - wall_s;
-      if (ahead_s > 0.0) std::this_thread::sleep_for(std::chrono::duration<double>(ahead_s));
+      const double ahead_s = t / config_.real_time_factor - (wall_s - wall_behind_s);
+      if (ahead_s > 0.0) {
+        std::this_thread::sleep_for(std::chrono::duration<double>(ahead_s));
+      } else {
+        if (-ahead_s > config_.max_lag_s) wall_behind_s += -ahead_s - config_.max_lag_s;
+        std::this_thread::yield();
+      }
     }
   }
 }

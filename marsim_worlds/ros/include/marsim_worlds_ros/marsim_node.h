@@ -22,6 +22,11 @@ struct MarsimNodeConfig {
   SimulationSessionConfig session;  ///< world, start pose, coverage, simulator
   double real_time_factor = 1.0;    ///< simulated s per wall s; 0 = as fast as possible
   double step_s = 0.01;             ///< simulated time advanced per loop
+  /// Behind the wall clock by more than this, the simulation slows down instead of catching up:
+  /// stepping flat out starves the other nodes (the controller) of the CPU, so the vehicle flew
+  /// open loop for 0.2 s stretches on a loaded 2-core machine and touched the cave. Each step
+  /// also yields the CPU once. [s]
+  double max_lag_s = 0.02;
   double max_duration_s = 0.0;      ///< stop after this simulated time; 0 = never
   bool publish_clock = true;
   LioMessageConfig messages;  ///< frames and twist of the FAST-LIO2-shaped output
