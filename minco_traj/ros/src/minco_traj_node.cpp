@@ -65,14 +65,30 @@ MincoTrajNode::MincoTrajNode(ros::NodeHandle nh, const MincoTrajNodeConfig& conf
   cmd_pub_ = nh.advertise<explore_from_sketch::PositionCommand>(topics::kPositionCommand, 10);
   marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>(topics::kMarkers, 2, true);
   scan_sub_ = nh.subscribe(topics::kScanWorld, 5, &MincoTrajNode::onScan, this);
-  odom_sub_ = nh.subscribe(topics::kOdom, 50, &MincoTrajNode::onOdom, this);
+  ros::SubscribeOptions odom_options = ros::SubscribeOptions::create<nav_msgs::Odometry>(
+      topics::kOdom, 50, [this](const nav_msgs::Odometry::ConstPtr& m) { onOdom(m); },
+      ros::VoidPtr(), &odom_queue_);
+  odom_sub_ = nh.subscribe(odom_options);
   target_sub_ = nh.subscribe(topics::kTarget, 5, &MincoTrajNode::onTarget, this);
   timer_ =
       nh.createTimer(ros::Duration(1.0 / config_.command_rate_hz), &MincoTrajNode::onTimer, this);
+  odom_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &odom_queue_);
+  odom_spinner_->start();
+}
+
+MincoTrajNode::~MincoTrajNode() {
+  odom_sub_.shutdown();
+  if (odom_spinner_) odom_spinner_->stop();
+}
+
+std::pair<std::optional<VehicleState>, ros::Time> MincoTrajNode::latestState() const {
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  return {state_, state_stamp_};
 }
 
 void MincoTrajNode::onScan(const sensor_msgs::PointCloud2::ConstPtr& msg) {
-  if (!state_) return;  // the sensor origin comes from odometry
+  const std::optional<VehicleState> state = latestState().first;
+  if (!state) return;  // the sensor origin comes from odometry
   std::vector<Eigen::Vector3f> points;
   try {
     points = ros_common::fromPointCloud2(*msg);
@@ -80,7 +96,7 @@ void MincoTrajNode::onScan(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     ROS_WARN_THROTTLE(1.0, "minco_traj: scan rejected: %s", e.what());
     return;
   }
-  server_.insertScan(state_->p_world_m, points);
+  server_.insertScan(state->p_world_m, points);
 }
 
 void MincoTrajNode::onOdom(const nav_msgs::Odometry::ConstPtr& msg) {
@@ -97,6 +113,7 @@ void MincoTrajNode::onOdom(const nav_msgs::Odometry::ConstPtr& msg) {
     ROS_WARN_THROTTLE(1.0, "minco_traj: odometry rejected: non-finite pose or twist");
     return;
   }
+  std::lock_guard<std::mutex> lock(state_mutex_);
   state_ = s;
   state_stamp_ = msg->header.stamp.isZero() ? ros::Time::now() : msg->header.stamp;
 }
@@ -125,12 +142,13 @@ void MincoTrajNode::onTarget(const geometry_msgs::PoseStamped::ConstPtr& msg) {
 void MincoTrajNode::onTimer(const ros::TimerEvent&) {
   const ros::Time now = ros::Time::now();
   const double t = now.toSec();
-  if (state_ && (now - state_stamp_).toSec() <= config_.odom_timeout_s) {
+  const auto [state, state_stamp] = latestState();
+  if (state && (now - state_stamp).toSec() <= config_.odom_timeout_s) {
     if (server_.holdingAlongPath()) {
       server_.resumeFromHold(t);
       ROS_WARN("minco_traj: %s", server_.lastMessage().c_str());
     }
-    const ServerEvent e = server_.update(t, *state_);
+    const ServerEvent e = server_.update(t, *state);
     if (e == ServerEvent::kReplanned || e == ServerEvent::kEmergencyStop) publishTrajectory(now, e);
     if (e == ServerEvent::kEmergencyStop)
       ROS_WARN("minco_traj: emergency stop: %s", server_.lastMessage().c_str());
@@ -142,10 +160,10 @@ void MincoTrajNode::onTimer(const ros::TimerEvent&) {
       goal_reached_ = true;
       ROS_INFO("minco_traj: %s", server_.lastMessage().c_str());
     }
-  } else if (state_ && !server_.holdingAlongPath() && server_.current()) {
+  } else if (state && !server_.holdingAlongPath() && server_.current()) {
     // Odometry lost in flight: the reference stops on the checked path instead of running on.
     server_.holdAlongPath(t);
-    ROS_WARN("minco_traj: no odometry for %.2f s: %s", (now - state_stamp_).toSec(),
+    ROS_WARN("minco_traj: no odometry for %.2f s: %s", (now - state_stamp).toSec(),
              server_.lastMessage().c_str());
   } else if (server_.goal()) {
     ROS_WARN_THROTTLE(1.0, "minco_traj: no recent odometry; not replanning");

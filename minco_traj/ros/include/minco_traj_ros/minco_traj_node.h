@@ -9,11 +9,15 @@
 
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Odometry.h>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
 
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "minco_traj/trajectory_server.h"
 
@@ -33,6 +37,9 @@ MincoTrajNodeConfig loadMincoTrajNodeConfig(const ros::NodeHandle& private_nh);
 class MincoTrajNode {
  public:
   MincoTrajNode(ros::NodeHandle nh, const MincoTrajNodeConfig& config);
+  ~MincoTrajNode();  ///< stops the odometry thread before the state it writes goes away
+  MincoTrajNode(const MincoTrajNode&) = delete;
+  MincoTrajNode& operator=(const MincoTrajNode&) = delete;
 
  private:
   void onScan(const sensor_msgs::PointCloud2::ConstPtr& msg);
@@ -40,9 +47,17 @@ class MincoTrajNode {
   void onTarget(const geometry_msgs::PoseStamped::ConstPtr& msg);
   void onTimer(const ros::TimerEvent&);
   void publishTrajectory(const ros::Time& now, ServerEvent event);
+  /// The latest odometry and its stamp (written by the odometry thread).
+  std::pair<std::optional<VehicleState>, ros::Time> latestState() const;
 
   MincoTrajNodeConfig config_;
   TrajectoryServer server_;
+  // Odometry has its own queue and thread: behind a long scan insertion or replan in the main
+  // queue it looked 0.2 s stale to the command timer, which then held the reference for nothing
+  // (seen: 10-26 false "odometry lost" holds per mission on a loaded 2-core machine).
+  ros::CallbackQueue odom_queue_;
+  std::unique_ptr<ros::AsyncSpinner> odom_spinner_;
+  mutable std::mutex state_mutex_;
   std::optional<VehicleState> state_;
   ros::Time state_stamp_;
   uint32_t trajectory_id_ = 0;
