@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Test fixture: draws the sketches of the small generated cave and pre-processes the deformed one
 # into a prior bundle (OUT/prior.prior), does the same for the
-# small garage's precise sketch (OUT/wrong_place.prior: a sketch of another place), and records a
-# short simulated flight (OUT/flight.bag), for the closed-loop and bag-replay rostests.
+# small garage's precise sketch (OUT/wrong_place.prior: a sketch of another place), records a
+# short simulated flight in the cave (OUT/flight.bag) and draws the cave's precise sketch with its
+# true placement for the replay (OUT/replay.prior, OUT/replay.prior.truth.yaml), for the
+# closed-loop and bag-replay rostests.
 #   prepare_mission_inputs.sh BIN_DIR OUT_DIR
 set -euo pipefail
 bin=$1
@@ -23,5 +25,7 @@ prior() {
 prior simple_cave deformed "$out/prior.prior"
 prior garage precise "$out/wrong_place.prior"
 "$bin/record_flight" --bag "$out/flight.bag" --world simple_cave --size small --seed 1 \
-  --variant deformed --duration 30 >/dev/null
-for f in prior.prior wrong_place.prior flight.bag; do test -s "$out/$f"; done
+  --variant precise --duration 60 >/dev/null
+"$bin/sim_prior" --world simple_cave --size small --seed 1 --variant precise \
+  --out "$out/replay.prior" >/dev/null 2>&1
+for f in prior.prior wrong_place.prior flight.bag replay.prior replay.prior.truth.yaml; do test -s "$out/$f"; done

@@ -2,8 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <opencv2/imgproc.hpp>
 
+#include "efs_common/testing/paths.h"
 #include "exploration_mission/mission_prior.h"
 #include "exploration_mission/mission_report.h"
 
@@ -55,6 +57,39 @@ TEST(MissionPrior, UnusableSketchIsRefusedWithAMessage) {
   const cv::Mat blank(100, 100, CV_8UC1, cv::Scalar(255));
   EXPECT_ANY_THROW(prepareMissionPrior(blank, 0.1, config, std::nullopt, 1.0, "blank"));
   EXPECT_ANY_THROW(prepareMissionPrior(drawRoom(), std::nan(""), config, std::nullopt, 1.0, "nan"));
+}
+
+TEST(MissionPrior, TruthFileRoundTripsAndBadFilesAreNamed) {
+  const std::string dir = efs::testing::testOutputDir();
+  const Sim2 truth(0.3, 1.7, Eigen::Vector2d(-2.5, 8.25), true);
+  saveTruth(truth, dir + "/truth.yaml");
+  const Sim2 back = loadTruth(dir + "/truth.yaml");
+  EXPECT_NEAR(back.yaw_rad, truth.yaw_rad, 1e-12);
+  EXPECT_NEAR(back.scale, truth.scale, 1e-12);
+  EXPECT_NEAR((back.t_m - truth.t_m).norm(), 0.0, 1e-12);
+  EXPECT_TRUE(back.reflected);
+
+  auto refused = [&](const std::string& text) -> std::string {
+    std::ofstream(dir + "/bad_truth.yaml") << text;
+    try {
+      loadTruth(dir + "/bad_truth.yaml");
+    } catch (const std::runtime_error& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  const std::string head = "T_world_sketch:\n  yaw_rad: 0.1\n  tx_m: 1\n  ty_m: 2\n";
+  EXPECT_NE(refused(head + "  reflected: false\n").find("T_world_sketch/scale"), std::string::npos);
+  EXPECT_NE(refused(head + "  scale: nan\n  reflected: false\n").find("not a finite number"),
+            std::string::npos);
+  EXPECT_NE(refused(head + "  scale: 1x\n  reflected: false\n").find("not a finite number"),
+            std::string::npos);
+  EXPECT_NE(refused(head + "  scale: -1\n  reflected: false\n").find("must be > 0"),
+            std::string::npos);
+  EXPECT_NE(refused(head + "  scale: 1\n  reflected: maybe\n").find("reflected"),
+            std::string::npos);
+  EXPECT_EQ(refused(head + "  scale: 1\n  reflected: false\n"), "accepted");
+  EXPECT_ANY_THROW(loadTruth(dir + "/no_such_truth.yaml"));
 }
 
 }  // namespace

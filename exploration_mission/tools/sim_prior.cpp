@@ -21,7 +21,8 @@ constexpr const char* kUsage =
     R"(usage: sim_prior [world options] --variant V [--sketch-seed N] [--scale-guess M] --out FILE
 
 Draws the world's sketch (precise | partial | deformed | scaled), writes FILE (the prior bundle),
-FILE.png (the drawing) and FILE.args, and prints FILE. World options as explore_mission:
+FILE.png (the drawing), FILE.args and FILE.truth.yaml (the true placement of the bundle's sketch
+frame in the world, for evaluation only: nothing in the flight stack reads it), and prints FILE. World options as explore_mission:
 --world KIND --size SIZE --seed N --resolution M, or --sdf/--mesh/--pcd FILE.
 --scale-guess M: the metres per pixel the user believes (default: the drawing's stated scale).
 Exit status: 0 success, 2 bad input.
@@ -62,6 +63,8 @@ int main(int argc, char** argv) {
     const sim::VoxelWorld world = sim::loadWorld(spec.world);
     const auto prior = mission::makeMissionPrior(spec, world, out + ".png");
     prior_map::savePriorBundle(prior->bundle, out);
+    if (prior->T_world_sketch_truth)
+      mission::saveTruth(*prior->T_world_sketch_truth, out + ".truth.yaml");
     std::ofstream(args_file) << key.str();
     std::cerr << "sim_prior: " << prior->description << " -> " << out << " ("
               << prior->bundle.guidepoints.size() << " guidepoints)\n";

@@ -195,8 +195,14 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
   updateHypotheses(icp_points, observed, diag);
   result_.last_frame = diag;
   // No transform survived the fitness test: whatever tracks the verifier still follows are not
-  // registrations, so the next frame seeds fresh triplets as well.
-  if (live_.empty()) verifier_.requestReseed();
+  // registrations, so the next frame seeds fresh triplets as well. In detect mode a surviving
+  // mirror-image fit counts as none: a passage fits its own mirror image, a drawing is rarely
+  // mirrored, and the proper transform must still be searched for (a mirror track that survived
+  // 35 s of a cave flight kept it from being found).
+  const bool registered = std::any_of(live_.begin(), live_.end(), [&](const Hypothesis& h) {
+    return !h.T_world_sketch.reflected || config_.reflection != ReflectionMode::kDetect;
+  });
+  if (!registered) verifier_.requestReseed();
 
   result_.hypotheses.clear();
   result_.mirrored_hypotheses.clear();

@@ -1,7 +1,15 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 //
 // replay.launch on a bag recorded by record_flight: the recorded FAST-LIO2 topics come back out
-// of rosbag play on the bag's clock and drive lio_bridge, the registration and the planner.
+// of rosbag play on the bag's clock and drive lio_bridge, the registration and the planner; by the
+// end of the bag the best hypothesis places the sketch within 1 m of its true placement.
+//
+// Private parameters:
+//   ~prior            the prior bundle the registration node loaded (its sketch walls measure
+//                     the placement error)
+//   ~truth/T_world_sketch/{yaw_rad,scale,tx_m,ty_m,reflected}  the true placement (sim_prior's
+//                     FILE.truth.yaml; the LIO frame of a drift-free simulated flight is the world)
+//   ~bag              the bag being replayed: the verdict is taken on the hypotheses at its end
 #include <explore_from_sketch/ExplorationStatus.h>
 #include <explore_from_sketch/RegistrationFrame.h>
 #include <explore_from_sketch/RegistrationHypotheses.h>
@@ -11,11 +19,69 @@
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
 
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+
+#include <mutex>
+#include <optional>
+
+#include "exploration_mission/mission_report.h"
+#include "prior_map_tools/prior_bundle.h"
 #include "ros_test_utils.h"
 
 namespace {
 
 using efs::rostest::waitForMessage;
+
+/// Every hypotheses message from the start of the replay, with the error of its best one.
+class HypothesisWatch {
+ public:
+  HypothesisWatch(ros::NodeHandle& nh, efs::Sim2 truth, std::vector<Eigen::Vector2d> walls)
+      : truth_(truth),
+        walls_(std::move(walls)),
+        sub_(nh.subscribe("hypotheses", 100, &HypothesisWatch::onHypotheses, this)) {}
+
+  struct Verdict {
+    size_t messages = 0;
+    std::optional<double> last_error_m;    ///< best hypothesis of the last message
+    std::optional<double> converged_at_s;  ///< since when the best one stayed within 1 m
+    std::string last_status;
+  };
+  Verdict verdict() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return verdict_;
+  }
+
+ private:
+  void onHypotheses(const explore_from_sketch::RegistrationHypotheses& m) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++verdict_.messages;
+    verdict_.last_status = m.status_text;
+    if (m.hypotheses.empty()) {
+      verdict_.last_error_m.reset();
+      verdict_.converged_at_s.reset();
+      return;
+    }
+    const auto& h = m.hypotheses.front();
+    const efs::Sim2 estimate(h.yaw, h.scale, {h.tx, h.ty}, h.reflected);
+    const double e = efs::mission::registrationErrorRmse(estimate, truth_, walls_);
+    verdict_.last_error_m = e;
+    if (e > 1.0) {
+      verdict_.converged_at_s.reset();
+    } else if (!verdict_.converged_at_s) {
+      verdict_.converged_at_s = m.header.stamp.toSec();
+    }
+  }
+
+  efs::Sim2 truth_;
+  std::vector<Eigen::Vector2d> walls_;
+  ros::Subscriber sub_;
+  mutable std::mutex mutex_;
+  Verdict verdict_;
+};
+
+HypothesisWatch* g_watch = nullptr;
+double g_bag_end_s = 0.0;
 
 TEST(Replay, RecordedFlightDrivesTheStack) {
   ros::NodeHandle nh;
@@ -44,13 +110,52 @@ TEST(Replay, RecordedFlightDrivesTheStack) {
   EXPECT_LT(ros::Time::now().toSec(), 1000.0);
 }
 
+TEST(Replay, RegistrationConvergesToTheTruePlacement) {
+  ASSERT_NE(g_watch, nullptr);
+  // On the bag's clock: the replay runs at 1x, so allow the bag's length plus start-up.
+  const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(g_bag_end_s + 60.0);
+  while (ros::Time::now().toSec() < g_bag_end_s - 0.5 && ros::WallTime::now() < give_up) {
+    ros::WallDuration(0.1).sleep();
+  }
+  ASSERT_GE(ros::Time::now().toSec(), g_bag_end_s - 0.5) << "the bag did not play to its end";
+  const auto v = g_watch->verdict();
+  ASSERT_GT(v.messages, 0u) << "no hypotheses message during the replay";
+  ASSERT_TRUE(v.last_error_m) << "no hypothesis by the end of the flight; status: "
+                              << v.last_status;
+  EXPECT_LE(*v.last_error_m, 1.0) << "best hypothesis misplaces the sketch";
+  ASSERT_TRUE(v.converged_at_s);
+  ROS_INFO(
+      "replay_rostest: best hypothesis within 1 m of the truth since t = %.1f s; "
+      "placement error at the end %.2f m",
+      *v.converged_at_s, *v.last_error_m);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "replay_rostest");
-  ros::NodeHandle nh;
+  ros::NodeHandle nh, pnh("~");
+  std::string prior, bag_path;
+  efs::Sim2 truth;
+  if (!pnh.getParam("prior", prior) || !pnh.getParam("bag", bag_path) ||
+      !pnh.getParam("truth/T_world_sketch/yaw_rad", truth.yaw_rad) ||
+      !pnh.getParam("truth/T_world_sketch/scale", truth.scale) ||
+      !pnh.getParam("truth/T_world_sketch/tx_m", truth.t_m.x()) ||
+      !pnh.getParam("truth/T_world_sketch/ty_m", truth.t_m.y()) ||
+      !pnh.getParam("truth/T_world_sketch/reflected", truth.reflected)) {
+    ROS_FATAL("replay_rostest: ~prior, ~bag and ~truth/T_world_sketch/* are required");
+    return 2;
+  }
+  {
+    rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
+    g_bag_end_s = rosbag::View(bag).getEndTime().toSec();
+  }
+  HypothesisWatch watch(nh, truth, efs::prior_map::loadPriorBundle(prior).wallPoints());
+  g_watch = &watch;
   ros::AsyncSpinner spinner(1);
   spinner.start();
-  return RUN_ALL_TESTS();
+  const int result = RUN_ALL_TESTS();
+  g_watch = nullptr;
+  return result;
 }

@@ -33,4 +33,11 @@ MissionPrior prepareMissionPrior(const cv::Mat& sketch_image, double scale_guess
                                  const std::optional<Sim2>& truth_for_drawing_frame,
                                  double drawing_m_per_px, const std::string& description);
 
+/// The truth of a simulated sketch beside its bundle (`BUNDLE.truth.yaml`, evaluation only):
+/// a ROS-parameter YAML map `T_world_sketch: {yaw_rad, scale, tx_m, ty_m, reflected}` that a
+/// rostest can <rosparam load> and registration_replay reads. Throws std::runtime_error naming
+/// the file and the key.
+void saveTruth(const Sim2& T_world_sketch, const std::string& path);
+Sim2 loadTruth(const std::string& path);
+
 }  // namespace efs::mission
