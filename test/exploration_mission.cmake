@@ -62,3 +62,15 @@ efs_expect_failure(registration_replay.not_a_bundle "replay.prior.args"
   --bag ${EFS_MISSION_INPUTS}/flight.bag --prior ${EFS_MISSION_INPUTS}/replay.prior.args)
 set_tests_properties(registration_replay.missing_bag registration_replay.truth_not_a_truth_file
   registration_replay.not_a_bundle PROPERTIES FIXTURES_REQUIRED mission_inputs)
+
+# The recorded flight replayed with rviz on a virtual display and captured at its end (what
+# scripts/demo --screenshot saves): rviz must stay up, load every display, and a picture be written.
+add_test(NAME rviz.replay_screenshot
+         COMMAND ${PROJECT_SOURCE_DIR}/scripts/lib/replay_screenshot ${EFS_MISSION_INPUTS}/flight.bag
+                 ${EFS_MISSION_INPUTS}/replay.prior ${CMAKE_CURRENT_BINARY_DIR}/replay_screenshot.png
+                 --rate 4)
+set_tests_properties(rviz.replay_screenshot PROPERTIES
+  FIXTURES_REQUIRED mission_inputs TIMEOUT 180 RUN_SERIAL TRUE)
+efs_expect_failure(rviz.replay_screenshot_without_bag "no such bag"
+  ${PROJECT_SOURCE_DIR}/scripts/lib/replay_screenshot /nonexistent/flight.bag
+  ${EFS_MISSION_INPUTS}/replay.prior ${CMAKE_CURRENT_BINARY_DIR}/none.png)

@@ -278,6 +278,8 @@ TEST_F(SketchRegistrationNodeTest, RegistersTheOfficeNearTheTruth) {
       for (const auto& q : m.points) {
         if (syn::distanceToPlan(sc.world_plan, Vector2d(q.x, q.y)) < 1.0) ++near;
       }
+      // Drawn at the robot's height (1.5 m in the frames sent), not at z = 0.
+      EXPECT_NEAR(m.points.front().z, 1.5, 1e-9);
       EXPECT_GT(near, 0.9 * m.points.size());
       EXPECT_GT(m.color.g, m.color.r * best.confidence);
     }

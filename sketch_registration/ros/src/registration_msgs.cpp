@@ -87,8 +87,9 @@ visualization_msgs::Marker baseMarker(const std::string& frame, const std::strin
 }  // namespace
 
 visualization_msgs::MarkerArray toMarkers(const RegistrationResult& result,
-                                          const Points2d& boundary_sketch_m,
+                                          const Points2d& boundary_sketch_m, double robot_z_m,
                                           const MarkerConfig& config, const ros::Time& stamp) {
+  const double z_m = robot_z_m + config.height_above_robot_m;
   visualization_msgs::MarkerArray out;
   visualization_msgs::Marker clear;
   clear.action = visualization_msgs::Marker::DELETEALL;
@@ -102,7 +103,7 @@ visualization_msgs::MarkerArray toMarkers(const RegistrationResult& result,
     m.scale.x = m.scale.y = config.point_size_m;
     m.color = confidenceColour(h.confidence);
     for (size_t i = 0; i < boundary_sketch_m.size(); i += stride) {
-      m.points.push_back(point(h.T_world_sketch.apply(boundary_sketch_m[i]), config.height_m));
+      m.points.push_back(point(h.T_world_sketch.apply(boundary_sketch_m[i]), z_m));
     }
     out.markers.push_back(m);
   }
@@ -115,7 +116,7 @@ visualization_msgs::MarkerArray toMarkers(const RegistrationResult& result,
     std::snprintf(text, sizeof(text), "hypothesis %d: confidence %.2f, F %.2f m, scale %.3f",
                   best->id, best->confidence, best->fitness_m, best->T_world_sketch.scale);
     label.text = text;
-    label.pose.position = point(result.last_frame.robot_world_m, config.height_m + 2.0);
+    label.pose.position = point(result.last_frame.robot_world_m, z_m + 2.0);
     label.scale.z = 1.0;
     label.color = confidenceColour(best->confidence);
     label.color.a = 1.0f;
@@ -130,8 +131,7 @@ visualization_msgs::MarkerArray toMarkers(const RegistrationResult& result,
     m.color.b = 1.0f;
     m.color.a = 0.8f;
     for (const Candidate& c : candidates) {
-      m.points.push_back(
-          point(best ? best->T_world_sketch.apply(c.c_sketch) : c.c_sketch, config.height_m));
+      m.points.push_back(point(best ? best->T_world_sketch.apply(c.c_sketch) : c.c_sketch, z_m));
     }
     out.markers.push_back(m);
   }

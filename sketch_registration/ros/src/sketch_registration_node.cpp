@@ -22,7 +22,7 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   p.get("world_frame", c.markers.world_frame);
   p.get("sketch_frame", c.markers.sketch_frame);
   p.get("publish_tf", c.publish_tf);
-  p.get("marker_height_m", c.markers.height_m);
+  p.get("marker_height_above_robot_m", c.markers.height_above_robot_m);
   p.get("marker_max_boundary_points", c.markers.max_boundary_points);
   p.get("boundary_spacing_m", c.boundary_spacing_m);
   p.get("d_gap_m", r.d_gap_m);
@@ -73,7 +73,8 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   requireThat(!c.markers.world_frame.empty(), "world_frame", "must not be empty");
   requireThat(!c.markers.sketch_frame.empty(), "sketch_frame", "must not be empty");
   requireInRange("marker_max_boundary_points", c.markers.max_boundary_points, 1, 1000000);
-  requireThat(std::isfinite(c.markers.height_m), "marker_height_m", "must be finite");
+  requireThat(std::isfinite(c.markers.height_above_robot_m), "marker_height_above_robot_m",
+              "must be finite");
   requirePositive("boundary_spacing_m", c.boundary_spacing_m);
   r.scale_guess = 1.0;  // the bundle's sketch frame already carries the user's scale guess
   r.validate();
@@ -135,6 +136,7 @@ void SketchRegistrationNode::onFrame(const explore_from_sketch::RegistrationFram
   map.reserve(cloud.size());
   for (const Eigen::Vector3f& p : cloud) map.push_back(p.cast<double>());
   const Eigen::Vector3d robot(msg->robot_position.x, msg->robot_position.y, msg->robot_position.z);
+  if (std::isfinite(robot.z())) last_robot_z_m_ = robot.z();
   const RegistrationResult& result = registration_->addFrame(stamp.toSec(), robot, map);
   if (result.status == RegistrationStatus::kBadInput ||
       result.status == RegistrationStatus::kOdometryJump) {
@@ -150,7 +152,8 @@ void SketchRegistrationNode::publish(const RegistrationResult& result, const ros
   header.stamp = stamp;
   header.frame_id = config_.markers.world_frame;
   hypotheses_pub_.publish(toHypothesesMsg(result, header));
-  markers_pub_.publish(toMarkers(result, prior_.boundary_sketch_m, config_.markers, stamp));
+  markers_pub_.publish(
+      toMarkers(result, prior_.boundary_sketch_m, last_robot_z_m_, config_.markers, stamp));
   if (config_.publish_tf && !result.hypotheses.empty() &&
       !result.hypotheses.front().T_world_sketch.reflected) {
     // TF carries neither scale nor reflection: only the best hypothesis' rotation and translation.

@@ -26,7 +26,10 @@ explore_from_sketch::RegistrationHypotheses toHypothesesMsg(const RegistrationRe
 struct MarkerConfig {
   std::string world_frame = "world";
   std::string sketch_frame = "sketch";
-  double height_m = 0.0;           ///< z at which the sketch is drawn in the world
+  /// The sketch is drawn this far above the robot's height at the latest frame: in the passage
+  /// being flown, where a person looking at the map expects it (a drawing at z = 0 under a
+  /// cave 10 m up is seen displaced in any oblique view).
+  double height_above_robot_m = 0.0;
   int max_boundary_points = 4000;  ///< per hypothesis (evenly thinned)
   double point_size_m = 0.15;
   double candidate_size_m = 0.6;
@@ -35,9 +38,10 @@ struct MarkerConfig {
 /// A DELETEALL followed by: per hypothesis (ns "sketch_boundary", id = hypothesis id) the
 /// boundary mapped by its transform, red (confidence 0) to green (1); the best hypothesis'
 /// label (ns "best_hypothesis"); the last frame's candidates (ns "candidates"), mapped by the
-/// best hypothesis into the world, or in the sketch frame while there is none.
+/// best hypothesis into the world, or in the sketch frame while there is none. `robot_z_m`: the
+/// robot's height at the latest frame.
 visualization_msgs::MarkerArray toMarkers(const RegistrationResult& result,
-                                          const Points2d& boundary_sketch_m,
+                                          const Points2d& boundary_sketch_m, double robot_z_m,
                                           const MarkerConfig& config, const ros::Time& stamp);
 
 }  // namespace efs::registration

@@ -46,6 +46,7 @@ class SketchRegistrationNode {
   SketchRegistrationNodeConfig config_;
   RegistrationPrior prior_;
   std::unique_ptr<SketchRegistration> registration_;
+  double last_robot_z_m_ = 0.0;  ///< where the markers are drawn (the latest finite frame)
   ros::Subscriber frame_sub_;
   ros::Publisher hypotheses_pub_, markers_pub_;
   tf2_ros::TransformBroadcaster tf_;
