@@ -200,6 +200,7 @@ int main(int argc, char** argv) {
         try {
           mission::MissionConfig config;
           config.time_limit_s = time_limit_s;
+          config.record_map = false;  // no map is saved; keeps parallel trials small
           const auto m = mission::makeMission(r.trial.spec, config);
           m->run();
           r.report = mission::makeReport(*m, r.trial.world_label, r.trial.spec.label());

@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
     const std::string bag_path = args.required("bag");
     const mission::MissionSpec spec = mission::missionSpecFromArgs(args);
     mission::MissionConfig config;
+    config.record_map = false;
     config.session.coverage_enabled = false;  // not needed for a recording
     config.time_limit_s = args.number("duration", 60.0);
     const auto mission = mission::makeMission(spec, config);

@@ -75,6 +75,7 @@ void MissionConfig::validate() const {
   requireInRange("registration_rate_hz", registration_rate_hz, 0.01, 10.0);
   registration.validate();
   exploration.validate();
+  mission_map.validate();
   trajectory.validate();
   controller.validate();
   requireInRange("control_rate_hz", control_rate_hz, 20.0, 1000.0);
@@ -94,6 +95,7 @@ ExplorationMission::ExplorationMission(const MissionConfig& config, sim::VoxelWo
       prior_(std::move(prior)),
       registration_map_(config.registration_map),
       registration_frames_(config.registration_rate_hz),
+      mission_map_(config.mission_map),
       trajectory_(config.trajectory),
       controller_(config.controller),
       dt_control_s_(1.0 / config.control_rate_hz) {
@@ -231,6 +233,10 @@ void ExplorationMission::onScan() {
   {
     CpuTimer timer(log_.planner_cpu_s);
     exploration_->insertScan(sensor_m, scan.points_world);
+    if (config_.record_map) {
+      mission_map_.insertScan(sensor_m, scan.points_world);
+      mission_map_.addPose(t, sensor_m, robot.yaw_rad);
+    }
     if (registration_) {
       registration_map_.insert(scan.points_world, sensor_m);
       if (registration_frames_.due(t)) onRegistrationFrame(t);
@@ -238,6 +244,7 @@ void ExplorationMission::onScan() {
     target = &exploration_->update(t, robot);
   }
   if (target->replanned) ++log_.planner_cycles;
+  if (target->active_hypothesis_id) last_active_hypothesis_id_ = target->active_hypothesis_id;
   planner_state_ = planner::toString(target->state);
   switch (target->state) {
     case planner::ExplorationState::kFinished:
@@ -283,6 +290,17 @@ void ExplorationMission::finish(MissionEnd end, const std::string& message) {
   if (sim.coverage()) log_.coverage = sim.coverage()->fraction();
   const auto& gt = sim.groundTruth();
   log_.trajectory.push_back({sim.time_s(), gt.p_world_m, gt.v_world_m_s.norm()});
+}
+
+planner::SavedMissionMap ExplorationMission::saveMap(const std::string& directory) const {
+  planner::MapRegistration reg;
+  reg.hypotheses = exploration_->hypotheses();
+  std::sort(reg.hypotheses.begin(), reg.hypotheses.end(),
+            [](const planner::Hypothesis& a, const planner::Hypothesis& b) {
+              return a.confidence > b.confidence;
+            });
+  reg.active_hypothesis_id = last_active_hypothesis_id_;
+  return mission_map_.save(directory, exploration_->occupancy(), reg);
 }
 
 MissionProgress ExplorationMission::progress() const {

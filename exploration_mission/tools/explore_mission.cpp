@@ -20,7 +20,9 @@ constexpr const char* kUsage =
 
 Flies one headless closed-loop exploration in simulated time and writes DIR/summary.json,
 DIR/summary.md, DIR/trajectory.png, DIR/coverage.png, and with a sketch DIR/prior.prior (the
-pre-processed sketch) and DIR/prior_overlay.png (and DIR/sketch.png when it draws one).
+pre-processed sketch) and DIR/prior_overlay.png (and DIR/sketch.png when it draws one), and
+what the mission leaves behind in DIR/map/: cloud.pcd (dense point cloud), occupancy.bt
+(OctoMap), trajectory.csv and registration.yaml (the sketch-to-world transforms), world frame.
 Exit status: 0 success, 3 finished without success (coverage < 95 % or collision), 2 bad input.
 
 World (generated unless a file is given):
@@ -93,7 +95,12 @@ int main(int argc, char** argv) {
         "# explore_from_sketch mission report\n\n" + mission::toMarkdown(report) + wall_line;
     std::ofstream(out_dir + "/summary.md") << md;
     mission::writeMissionPlots(*mission, out_dir);
+    const planner::SavedMissionMap map = mission->saveMap(out_dir + "/map");
     std::cout << "\n" << md;
+    std::printf("\nMap: %s (%zu points), %s (%zu occupied, %zu free cells), %s, %s\n",
+                map.cloud_pcd.c_str(), map.cloud_points, map.occupancy_bt.c_str(),
+                map.occupied_cells, map.free_cells, map.trajectory_csv.c_str(),
+                map.registration_yaml.c_str());
     return report.success ? 0 : 3;
   } catch (const std::exception& e) {
     std::cerr << "explore_mission: " << e.what() << "\n";

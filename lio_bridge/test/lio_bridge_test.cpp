@@ -5,6 +5,7 @@
 #include <limits>
 #include <random>
 
+#include "efs_common/config_check.h"
 #include "lio_bridge/gravity_alignment.h"
 #include "lio_bridge/input_monitor.h"
 #include "lio_bridge/local_map.h"
@@ -53,7 +54,7 @@ TEST(InputMonitor, ReportsAJumpOnceThenFollowsTheNewPose) {
 }
 
 TEST(VelocityEstimator, RecoversConstantVelocityUnderNoise) {
-  VelocityEstimator v({0.2, 100});
+  VelocityEstimator v({0.2, 100, 1});
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 0.005);
   const Eigen::Vector3d vel(2.0, -1.0, 0.5);
@@ -64,6 +65,30 @@ TEST(VelocityEstimator, RecoversConstantVelocityUnderNoise) {
   EXPECT_LT((v.velocity() - vel).norm(), 0.1);
   VelocityEstimator empty;
   EXPECT_EQ(empty.velocity(), Eigen::Vector3d::Zero());
+}
+
+// Braking at 6 m/s^2 from 4 m/s, 100 Hz poses: the parabola has the velocity of the newest pose,
+// the line that of the window's middle (ten poses span 0.09 s: 6 m/s^2 * 0.045 s = 0.27 m/s off).
+TEST(VelocityEstimator, ParabolaHasNoLagUnderConstantAcceleration) {
+  const Eigen::Vector3d v0(4.0, 0.0, 0.0), a(-6.0, 0.0, 0.0);
+  VelocityEstimator line({0.1, 50, 1}), parabola({0.1, 50, 2});
+  for (int i = 0; i <= 40; ++i) {
+    const double t = 0.01 * i;
+    const Eigen::Vector3d p = v0 * t + 0.5 * a * t * t;
+    line.add(t, p);
+    parabola.add(t, p);
+  }
+  const Eigen::Vector3d truth = v0 + a * 0.4;
+  EXPECT_LT((parabola.velocity() - truth).norm(), 1e-6);
+  EXPECT_NEAR((line.velocity() - truth).norm(), 6.0 * 0.045, 1e-6);
+  // Too few samples for a parabola: the line's answer.
+  VelocityEstimator early({0.1, 50, 2});
+  early.add(0.0, Eigen::Vector3d::Zero());
+  early.add(0.01, Eigen::Vector3d(0.02, 0, 0));
+  EXPECT_LT((early.velocity() - Eigen::Vector3d(2.0, 0, 0)).norm(), 1e-9);
+  VelocityEstimatorConfig bad;
+  bad.fit_order = 3;
+  EXPECT_THROW(VelocityEstimator{bad}, ConfigError);
 }
 
 TEST(LocalMap, DownsamplesSkipsInvalidPointsAndCropsTheWindow) {

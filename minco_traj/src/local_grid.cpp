@@ -18,6 +18,7 @@ void LocalGridConfig::validate() const {
   requireThat(cells <= 64e6, "local_grid.size_x_m",
               "window has more than 64 million cells; enlarge resolution_m or shrink the window");
   requireInRange("local_grid.inflation_radius_m", inflation_radius_m, 0.0, 3.0);
+  requireInRange("local_grid.memory_radius_m", memory_radius_m, 0.0, 100000.0);
   requirePositive("local_grid.max_ray_length_m", max_ray_length_m);
   requireInRange("local_grid.ray_downsample_m", ray_downsample_m, 0.0, 5.0);
   requireInRange("local_grid.logodds_hit", logodds_hit, 1e-3, 10.0);
@@ -99,16 +100,69 @@ void LocalGrid::recenter(const Eigen::Vector3d& c) {
   const auto out_x = leaving(old_min.x, new_min.x, nx_);
   const auto out_y = leaving(old_min.y, new_min.y, ny_);
   const auto out_z = leaving(old_min.z, new_min.z, nz_);
+  const bool keep = cfg_.memory_radius_m > 0.0;
+  const std::vector<int> kx = slotKeys(old_min.x, nx_), ky = slotKeys(old_min.y, ny_),
+                         kz = slotKeys(old_min.z, nz_);
   size_t idx = 0;
   for (int ix = 0; ix < nx_; ++ix)
     for (int iy = 0; iy < ny_; ++iy)
       for (int iz = 0; iz < nz_; ++iz, ++idx)
         if (out_x[ix] || out_y[iy] || out_z[iz]) {
+          if (keep && occupied_[idx]) remember({kx[ix], ky[iy], kz[iz]}, logodds_[idx]);
           logodds_[idx] = 0.f;
           observed_[idx] = 0;
           occupied_[idx] = 0;
         }
+  if (keep) {
+    cropMemory();
+    restoreRemembered();
+  }
   recomputeInflation();
+}
+
+void LocalGrid::remember(const VoxelKey& k, float logodds) {
+  memory_[memoryBlock(k)].push_back({k, logodds});
+  ++remembered_;
+}
+
+void LocalGrid::restoreRemembered() {
+  const VoxelKey lo = memoryBlock(min_key_), hi = memoryBlock(maxKey());
+  for (int32_t bx = lo.x; bx <= hi.x; ++bx)
+    for (int32_t by = lo.y; by <= hi.y; ++by)
+      for (int32_t bz = lo.z; bz <= hi.z; ++bz) {
+        const auto it = memory_.find({bx, by, bz});
+        if (it == memory_.end()) continue;
+        std::vector<RememberedCell>& cells = it->second;
+        size_t kept = 0;
+        for (const RememberedCell& c : cells) {
+          if (!inWindow(c.key)) {
+            cells[kept++] = c;
+            continue;
+          }
+          const size_t i = index(c.key);
+          logodds_[i] = c.logodds;
+          observed_[i] = 1;
+          occupied_[i] = 1;
+        }
+        remembered_ -= cells.size() - kept;
+        cells.resize(kept);
+        if (cells.empty()) memory_.erase(it);
+      }
+}
+
+void LocalGrid::cropMemory() {
+  const Eigen::Vector3d c = 0.5 * (windowMin() + windowMax());
+  const double block_m = cfg_.resolution_m * (1 << kMemoryBlockBits);
+  const double r = cfg_.memory_radius_m + block_m;  // block centre to its farthest cell
+  for (auto it = memory_.begin(); it != memory_.end();) {
+    const Eigen::Vector2d b((it->first.x + 0.5) * block_m, (it->first.y + 0.5) * block_m);
+    if ((b - c.head<2>()).squaredNorm() > r * r) {
+      remembered_ -= it->second.size();
+      it = memory_.erase(it);
+    } else {
+      ++it;
+    }
+  }
 }
 
 void LocalGrid::recomputeInflation() {

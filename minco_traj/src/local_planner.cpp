@@ -14,6 +14,10 @@ void LocalPlannerConfig::validate() const {
   optimizer.validate();
   yaw.validate();
   requireInRange("local_planner.emergency_decel_mps2", emergency_decel_mps2, 0.0, 50.0);
+  requireInRange("local_planner.braking_first_min_speed_mps", braking_first_min_speed_mps, 0.0,
+                 50.0);
+  requireInRange("local_planner.braking_first_decel_fraction", braking_first_decel_fraction, 0.1,
+                 1.0);
 }
 
 const char* toString(PlanStatus s) {
@@ -73,25 +77,68 @@ PlanResult LocalPlanner::plan(const LocalGrid& grid, const PlanRequest& req) con
     return fail(start_bad ? PlanStatus::kStartInCollision : PlanStatus::kGoalUnreachable,
                 std::string("front end: ") + toString(res.front_end.status), req, std::move(res));
   }
-  res.corridor = corridor_.build(res.front_end.path_world_m, grid);
-  if (!res.corridor.ok())
-    return fail(PlanStatus::kCorridorFailed,
-                std::string("corridor: ") + toString(res.corridor.status), req, std::move(res));
+  std::string why;
+  if (optimizeAlong(grid, req, res.front_end.path_world_m, &res, &why)) return res;
 
+  // The shortest path may leave in another direction than the vehicle is moving, and a corridor
+  // around it then has no room to brake in (each polytope spans its seed's box plus a margin):
+  // seed the corridor through the braking point first.
+  std::vector<Eigen::Vector3d> braking_path;
+  if (brakingFirstPath(grid, req, &braking_path)) {
+    PlanResult second = res;
+    std::string why_second;
+    if (optimizeAlong(grid, req, braking_path, &second, &why_second)) {
+      second.braked_first = true;
+      return second;
+    }
+    why += "; braking first: " + why_second;
+  }
+  const PlanStatus status = res.corridor.ok() ? PlanStatus::kOptimizationFailed
+                                              : PlanStatus::kCorridorFailed;
+  return fail(status, why, req, std::move(res));
+}
+
+bool LocalPlanner::optimizeAlong(const LocalGrid& grid, const PlanRequest& req,
+                                 const std::vector<Eigen::Vector3d>& path, PlanResult* res,
+                                 std::string* why) const {
+  res->corridor = corridor_.build(path, grid);
+  if (!res->corridor.ok()) {
+    *why = std::string("corridor: ") + toString(res->corridor.status);
+    return false;
+  }
   Eigen::Matrix3d head, tail = Eigen::Matrix3d::Zero();
   head << req.p_world_m, req.v_world_mps, req.a_world_mps2;
-  tail.col(0) = res.front_end.path_world_m.back();
-  res.optimization = optimizer_.optimize(head, tail, res.corridor.polytopes);
-  if (!res.optimization.ok())
-    return fail(PlanStatus::kOptimizationFailed, "optimiser: " + res.optimization.message, req,
-                std::move(res));
-
-  res.trajectory = res.optimization.trajectory;
+  tail.col(0) = path.back();
+  res->optimization = optimizer_.optimize(head, tail, res->corridor.polytopes);
+  if (!res->optimization.ok()) {
+    *why = "optimiser: " + res->optimization.message;
+    return false;
+  }
+  res->trajectory = res->optimization.trajectory;
   const Eigen::Vector3d look = req.has_look_at ? req.look_at_world_m : req.goal_world_m;
-  res.trajectory.setYaw(yaw_.plan(req.yaw_rad, req.yaw_rate_radps,
-                                  YawPlanner::lookAtYaw(req.p_world_m, look, req.yaw_rad)));
-  res.status = PlanStatus::kOk;
-  return res;
+  res->trajectory.setYaw(yaw_.plan(req.yaw_rad, req.yaw_rate_radps,
+                                   YawPlanner::lookAtYaw(req.p_world_m, look, req.yaw_rad)));
+  res->status = PlanStatus::kOk;
+  return true;
+}
+
+bool LocalPlanner::brakingFirstPath(const LocalGrid& grid, const PlanRequest& req,
+                                    std::vector<Eigen::Vector3d>* path) const {
+  const double speed = req.v_world_mps.norm();
+  // Slow enough to turn within a cell or two: the corridor's margin already holds the stop.
+  if (speed < cfg_.braking_first_min_speed_mps) return false;
+  const double decel = cfg_.braking_first_decel_fraction * cfg_.optimizer.a_max_mps2;
+  // Overshoot the stopping point a little so that the polytope around the braking seed holds the
+  // whole stop, whatever the optimiser makes of the time allocation.
+  const Eigen::Vector3d stop =
+      req.p_world_m + req.v_world_mps * (speed / (2.0 * decel)) +
+      req.v_world_mps.normalized() * grid.resolution();
+  if (!grid.inWindow(stop) || !astar_.lineOfSight(grid, req.p_world_m, stop)) return false;
+  const AStarResult onward = astar_.plan(grid, stop, req.goal_world_m);
+  if (!onward.ok() || onward.path_world_m.empty()) return false;
+  path->assign({req.p_world_m});
+  path->insert(path->end(), onward.path_world_m.begin(), onward.path_world_m.end());
+  return true;
 }
 
 double LocalPlanner::firstCollisionTime(const Trajectory& traj, const LocalGrid& grid,

@@ -91,13 +91,14 @@ void TrajectoryServer::insertScan(const Eigen::Vector3d& sensor_origin_world_m,
   if (skipped > 0) message_ = "scan: skipped " + std::to_string(skipped) + " non-finite points";
   grid_.insertScan(sensor_origin_world_m, points);
 
-  if (goal_ && current_ && !stopping_ && last_update_s_) {
-    const double t_from = std::max(0.0, *last_update_s_ - current_start_s_);
+  const Trajectory* current = track_.current();
+  if (goal_ && current && !stopping_ && last_update_s_) {
+    const double t_from = std::max(0.0, *last_update_s_ - track_.currentStart_s());
     const double t_hit = LocalPlanner::firstCollisionTime(
-        *current_, grid_, t_from, cfg_.collision_check_horizon_s, cfg_.collision_check_clearance_m);
+        *current, grid_, t_from, cfg_.collision_check_horizon_s, cfg_.collision_check_clearance_m);
     if (t_hit >= 0.0) {
       collision_predicted_ = true;
-      message_ = "collision predicted at " + vecString(current_->position(t_hit)) + " in " +
+      message_ = "collision predicted at " + vecString(current->position(t_hit)) + " in " +
                  std::to_string(t_hit - t_from) + " s";
     }
   }
@@ -132,65 +133,30 @@ void TrajectoryServer::clearGoal(double time_s) {
   message_ = "goal cleared: holding";
 }
 
-std::optional<ReferenceSample> TrajectoryServer::referenceAt(double time_s) const {
-  if (!warp_) return unwarpedReferenceAt(time_s);
-  // Chain rule of p(tau(t)), with the rate of tau falling at the constant 1 / stop_s.
-  const double dt = std::clamp(time_s - warp_->t0_s, 0.0, warp_->stop_s);
-  const bool slowing = warp_->stop_s > 0.0 && time_s - warp_->t0_s < warp_->stop_s;
-  const double rate = warp_->stop_s > 0.0 ? 1.0 - dt / warp_->stop_s : 0.0;
-  const double rate_dot = slowing ? -1.0 / warp_->stop_s : 0.0;
-  const double tau = warp_->t0_s + dt - (warp_->stop_s > 0.0 ? 0.5 * dt * dt / warp_->stop_s : 0.0);
-  std::optional<ReferenceSample> s = unwarpedReferenceAt(tau);
-  if (!s) return s;
-  const Eigen::Vector3d v = s->v_world_mps, a = s->a_world_mps2, j = s->j_world_mps3;
-  s->v_world_mps = rate * v;
-  s->a_world_mps2 = rate * rate * a + rate_dot * v;
-  s->j_world_mps3 = rate * rate * rate * j + 3.0 * rate * rate_dot * a;
-  s->yaw_rate_radps *= rate;
-  return s;
-}
-
 double TrajectoryServer::holdDecel() const {
   return cfg_.planner.emergency_decel_mps2 > 0.0 ? cfg_.planner.emergency_decel_mps2
                                                  : cfg_.planner.optimizer.a_max_mps2;
 }
 
 void TrajectoryServer::holdAlongPath(double time_s) {
-  if (warp_ || !std::isfinite(time_s)) return;
-  const std::optional<ReferenceSample> ref = unwarpedReferenceAt(time_s);
+  if (track_.holding() || !std::isfinite(time_s)) return;
+  const std::optional<ReferenceSample> ref = track_.unwarpedAt(time_s);
   if (!ref) return;
   // Decelerating at a along the path from speed v takes v / a.
-  warp_ = Warp{time_s, ref->v_world_mps.norm() / holdDecel()};
+  track_.holdAlongPath(time_s, ref->v_world_mps.norm() / holdDecel());
   message_ = "odometry lost: stopping along the current trajectory";
 }
 
 void TrajectoryServer::resumeFromHold(double time_s) {
-  if (!warp_ || !std::isfinite(time_s)) return;
+  if (!track_.holding() || !std::isfinite(time_s)) return;
   const std::optional<ReferenceSample> ref = referenceAt(time_s);
-  warp_.reset();
+  track_.endHold();
   if (ref) {
     install(emergencyStop(ref->p_world_m, ref->v_world_mps, holdDecel(), ref->yaw_rad), time_s);
-    previous_.reset();  // the warped reference is gone: nothing before time_s to blend from
+    track_.dropPrevious();  // the warped reference is gone: nothing before time_s to blend from
   }
   if (goal_) new_goal_ = true;
   message_ = "odometry back: replanning from the held reference";
-}
-
-std::optional<ReferenceSample> TrajectoryServer::unwarpedReferenceAt(double time_s) const {
-  const bool use_previous = previous_ && time_s < current_start_s_;
-  const Trajectory* traj = use_previous ? &*previous_ : current();
-  if (!traj || traj->empty()) return std::nullopt;
-  const double start = use_previous ? previous_start_s_ : current_start_s_;
-  const TrajectoryPoint pt = traj->sample(std::max(0.0, time_s - start));
-  ReferenceSample s;
-  s.p_world_m = pt.p_world_m;
-  s.v_world_mps = pt.v_world_mps;
-  s.a_world_mps2 = pt.a_world_mps2;
-  s.j_world_mps3 = pt.j_world_mps3;
-  s.yaw_rad = pt.yaw_rad;
-  s.yaw_rate_radps = pt.yaw_rate_radps;
-  s.valid = true;
-  return s;
 }
 
 ReferenceSample TrajectoryServer::sample(double time_s) const {
@@ -199,10 +165,7 @@ ReferenceSample TrajectoryServer::sample(double time_s) const {
 }
 
 void TrajectoryServer::install(Trajectory traj, double start_s) {
-  previous_ = std::move(current_);
-  previous_start_s_ = current_start_s_;
-  current_ = std::move(traj);
-  current_start_s_ = start_s;
+  track_.install(std::move(traj), start_s);
 }
 
 ServerEvent TrajectoryServer::update(double time_s, const VehicleState& state) {
@@ -212,7 +175,7 @@ ServerEvent TrajectoryServer::update(double time_s, const VehicleState& state) {
     return ServerEvent::kRejectedInput;
   }
   last_update_s_ = time_s;
-  if (!goal_ || warp_) return ServerEvent::kNone;  // holding: resumeFromHold() ends it
+  if (!goal_ || track_.holding()) return ServerEvent::kNone;  // resumeFromHold() ends it
 
   std::string reason;
   if (new_goal_) {
@@ -221,9 +184,9 @@ ServerEvent TrajectoryServer::update(double time_s, const VehicleState& state) {
     reason = "collision predicted";
   } else if (retry_at_s_ && time_s >= *retry_at_s_) {
     reason = "retry after a failed plan";
-  } else if (current_) {
-    const double remaining_s = current_start_s_ + current_->duration() - time_s;
-    const Eigen::Vector3d end_m = current_->position(current_->duration());
+  } else if (const Trajectory* current = track_.current()) {
+    const double remaining_s = track_.currentStart_s() + current->duration() - time_s;
+    const Eigen::Vector3d end_m = current->position(current->duration());
     // A goal moved out of an obstacle counts as reached at its substitute; a goal beyond the
     // window does not (the window follows the vehicle and the next plan gets closer).
     const bool ends_at_goal =
@@ -294,7 +257,7 @@ ServerEvent TrajectoryServer::replan(double time_s, const VehicleState& state,
   }
   message_ = "plan failed (" + reason + "): " + std::string(toString(result.status)) + ": " +
              result.message;
-  if (!collision && tracking && !stopping_ && current_ && !current_->empty()) {
+  if (!collision && tracking && !stopping_ && track_.current() && !track_.current()->empty()) {
     retry_at_s_ = time_s + cfg_.retry_after_failed_plan_s;
     message_ += "; keeping the current trajectory (no collision predicted on it)";
     last_plan_ = std::move(result);

@@ -116,7 +116,9 @@ TEST(LocalGrid, OneRayPerCoarseEndVoxelButEveryHitCounts) {
 }
 
 TEST(LocalGrid, RecenterForgetsOnlyCellsThatLeaveTheWindow) {
-  LocalGrid g(smallGrid(0.1), Eigen::Vector3d(0, 0, 0));
+  LocalGridConfig cfg = smallGrid(0.1);
+  cfg.memory_radius_m = 0.0;  // no surface memory: what leaves is gone
+  LocalGrid g(cfg, Eigen::Vector3d(0, 0, 0));
   const Eigen::Vector3d keep(0.75, 0.05, 0.05), lose(-1.25, 0.05, 0.05);
   g.setOccupied(keep);
   g.setOccupied(lose);
@@ -129,6 +131,32 @@ TEST(LocalGrid, RecenterForgetsOnlyCellsThatLeaveTheWindow) {
   g.recenter(Eigen::Vector3d(0, 0, 0));
   EXPECT_EQ(g.state(lose), CellState::kUnknown);
   EXPECT_EQ(g.occupiedCount(), 1u);
+}
+
+// A passage flown back through: its walls come back occupied (and inflated), its free space does
+// not (unknown: A* may cross it, a scan will say); far away, the memory is dropped.
+TEST(LocalGrid, OccupiedCellsThatLeftComeBackWhenTheWindowReturns) {
+  LocalGridConfig cfg = smallGrid(0.1);
+  cfg.memory_radius_m = 10.0;
+  LocalGrid g(cfg, Eigen::Vector3d(0, 0, 0));
+  const Eigen::Vector3d wall(-1.25, 0.05, 0.05), floor_free(-1.05, 0.05, 0.05);
+  g.setOccupied(wall);
+  g.setFree(floor_free);
+  g.recenter(Eigen::Vector3d(3.0, 0, 0));
+  EXPECT_EQ(g.state(wall), CellState::kOutside);
+  EXPECT_EQ(g.rememberedCount(), 1u);
+  EXPECT_EQ(g.occupiedCount(), 0u);
+  g.recenter(Eigen::Vector3d(0, 0, 0));
+  EXPECT_EQ(g.state(wall), CellState::kOccupied);
+  EXPECT_TRUE(g.isInflated(g.key(Eigen::Vector3d(-1.15, 0.05, 0.05))));
+  EXPECT_EQ(g.state(floor_free), CellState::kUnknown);
+  EXPECT_EQ(g.rememberedCount(), 0u);  // back in the window, not twice
+  EXPECT_EQ(g.occupiedCount(), 1u);
+  // Leaving again and going beyond the memory radius: forgotten for good.
+  g.recenter(Eigen::Vector3d(20.0, 0, 0));
+  EXPECT_EQ(g.rememberedCount(), 0u);
+  g.recenter(Eigen::Vector3d(0, 0, 0));
+  EXPECT_EQ(g.state(wall), CellState::kUnknown);
 }
 
 TEST(LocalGrid, InflationAfterRecentringMatchesAFreshGrid) {

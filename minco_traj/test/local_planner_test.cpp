@@ -106,6 +106,42 @@ TEST(LocalPlanner, PredictsCollisionWithAnObstacleBesideThePath) {
   EXPECT_LT(LocalPlanner::firstCollisionTime(r.trajectory, grid, 0.0, 100.0, 0.1), 0.0);
 }
 
+// At 4 m/s away from the door, the corridor around the shortest path (behind the vehicle) has no
+// room to brake in; seeding it through the braking point first gives a plan that turns back.
+TEST(LocalPlanner, FastVehicleHeadingAwayBrakesFirst) {
+  const LocalGrid grid = doorWorld();
+  PlanRequest req;
+  req.p_world_m = {-2, -2, 1};
+  req.v_world_mps = {-4, 0, 0};
+  req.goal_world_m = {3, -2, 1};
+  LocalPlannerConfig without;
+  without.braking_first_min_speed_mps = 50.0;
+  const PlanResult refused = LocalPlanner(without).plan(grid, req);
+  EXPECT_EQ(refused.status, PlanStatus::kOptimizationFailed);
+  EXPECT_TRUE(refused.emergency_stop);
+
+  const LocalPlanner planner;
+  const PlanResult r = planner.plan(grid, req);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_TRUE(r.braked_first);
+  const Trajectory& tr = r.trajectory;
+  EXPECT_LT((tr.velocity(0) - req.v_world_mps).norm(), 1e-9);
+  EXPECT_LT((tr.position(tr.duration()) - req.goal_world_m).norm(), 1e-6);
+  // It went on backwards before turning: the stop lies beyond 4^2 / (2 a_max) from the start.
+  double min_x = req.p_world_m.x();
+  for (double t = 0; t <= tr.duration(); t += 0.01) min_x = std::min(min_x, tr.position(t).x());
+  EXPECT_LT(min_x, req.p_world_m.x() - 16.0 / (2.0 * planner.config().optimizer.a_max_mps2));
+  EXPECT_LE(tr.maxSpeed(0.005), planner.config().optimizer.v_max_mps * 1.02);
+  EXPECT_LE(tr.maxAcceleration(0.005), planner.config().optimizer.a_max_mps2);
+  EXPECT_GE(minObstacleDistance(grid, tr), planner.config().corridor.clearance_m - 2e-3);
+
+  // Slow vehicles take the shortest path as before.
+  req.v_world_mps = {-1, 0, 0};
+  const PlanResult slow = planner.plan(grid, req);
+  ASSERT_TRUE(slow.ok()) << slow.message;
+  EXPECT_FALSE(slow.braked_first);
+}
+
 TEST(LocalPlanner, MovingStartAndGoalInsideObstacle) {
   const LocalGrid grid = doorWorld();
   PlanRequest req;

@@ -10,6 +10,8 @@ int main(int argc, char** argv) {
     const auto config = efs::planner::loadPriorGuidedPlannerConfig(private_nh);
     efs::planner::PriorGuidedPlannerNode node(nh, config);
     ros::spin();
+    // Shut down (Ctrl-C, roslaunch ending, the drone landing): what was explored is kept.
+    if (!config.map_output_dir.empty()) node.saveMap("node shutting down");
   } catch (const std::exception& e) {
     ROS_FATAL("prior_guided_planner: %s", e.what());
     ros::shutdown();

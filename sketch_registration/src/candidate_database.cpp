@@ -28,6 +28,7 @@ Points2d makeCandidateGrid(const Eigen::Vector2d& min_m, const Eigen::Vector2d& 
 
 void RetrievalConfig::validate() const {
   requireInRange("eta", eta, 1e-6, 1.0);
+  requireInRange("min_ranked_candidates", min_ranked_candidates, 0, 100000);
   weights.validate();
   requireInRange("downsample_radius_m", downsample_radius_m, 0.0, 1e4);
   requireInRange("max_candidates_per_frame", max_candidates_per_frame, 1, 100000);
@@ -196,7 +197,9 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
 
 std::vector<Candidate> CandidateDatabase::findCandidates(const GeoContext& observed,
                                                          const RetrievalConfig& config) const {
-  const size_t k = static_cast<size_t>(std::ceil(config.eta * static_cast<double>(valid_count_)));
+  const size_t k = std::max(
+      static_cast<size_t>(std::ceil(config.eta * static_cast<double>(valid_count_))),
+      std::min(static_cast<size_t>(config.min_ranked_candidates), valid_count_));
   const std::vector<Candidate> raw =
       rank(observed, std::max<size_t>(k, 1), config.weights, config.try_reversed);
   std::vector<Candidate> out;

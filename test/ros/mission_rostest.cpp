@@ -12,17 +12,30 @@
 //                          must slow down to a hold meanwhile, and the mission must carry on.
 //   ~expect_no_hypothesis  a sketch of another place: registration must never report a
 //                          hypothesis (its status says why).
+//   ~map_dir               if set (the launch file's map_dir): the planner must leave the mission
+//                          map there when it finishes (a dense cloud of the cave, an OctoMap with
+//                          occupied and free cells, the track, the registration) and write it
+//                          again when asked over its save_map service.
+//   ~expect_active_hypothesis  the registration file must name the hypothesis the guidance used
+//                          (a sketch of this place) or none ("null": no sketch, wrong sketch).
 #include <explore_from_sketch/ExplorationStatus.h>
 #include <explore_from_sketch/LioStatus.h>
 #include <explore_from_sketch/RegistrationHypotheses.h>
 #include <explore_from_sketch/SimulatorStatus.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
+#include <octomap/OcTree.h>
 #include <ros/ros.h>
+#include <std_srvs/Trigger.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
 #include <mutex>
+#include <sstream>
 #include <string>
+
+#include "efs_common/pcd_io.h"
 
 #include "ros_test_utils.h"
 
@@ -41,6 +54,8 @@ struct Expectations {
   double lio_dropout_start_s = 0.0;
   double lio_dropout_duration_s = 0.0;
   bool expect_no_hypothesis = false;
+  std::string map_dir;
+  bool expect_active_hypothesis = false;
 };
 
 Expectations readExpectations() {
@@ -52,6 +67,8 @@ Expectations readExpectations() {
   p.param("lio_dropout_start_s", e.lio_dropout_start_s, e.lio_dropout_start_s);
   p.param("lio_dropout_duration_s", e.lio_dropout_duration_s, e.lio_dropout_duration_s);
   p.param("expect_no_hypothesis", e.expect_no_hypothesis, e.expect_no_hypothesis);
+  p.param("map_dir", e.map_dir, e.map_dir);
+  p.param("expect_active_hypothesis", e.expect_active_hypothesis, e.expect_active_hypothesis);
   return e;
 }
 
@@ -123,9 +140,48 @@ class MissionWatch {
   std::vector<ros::Subscriber> subs_;
 };
 
+std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// The mission map the planner wrote into `dir`: every file there and readable by its own reader,
+/// a cloud and an occupancy of a cave (not of nothing), the registration as expected.
+void checkMissionMap(const std::string& dir, const Expectations& e, double travelled_m) {
+  const std::vector<Eigen::Vector3f> cloud = efs::loadPcdPoints(dir + "/cloud.pcd");
+  EXPECT_GT(cloud.size(), 20000u) << "a dense cloud of the explored cave";
+  octomap::OcTree tree(dir + "/occupancy.bt");
+  size_t occupied = 0, free = 0;
+  for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it)
+    (tree.isNodeOccupied(*it) ? occupied : free) += 1;
+  EXPECT_DOUBLE_EQ(tree.getResolution(), 0.3);
+  EXPECT_GT(occupied, 1000u);
+  EXPECT_GT(free, 1000u);
+  // The cloud and the occupancy describe the same place: the cloud's points lie in (or next to)
+  // occupied cells.
+  size_t near_occupied = 0, sampled = 0;
+  for (size_t i = 0; i < cloud.size(); i += 97, ++sampled) {
+    const octomap::OcTreeNode* n = tree.search(cloud[i].x(), cloud[i].y(), cloud[i].z());
+    near_occupied += n && tree.isNodeOccupied(n);
+  }
+  EXPECT_GT(near_occupied, 0.8 * sampled) << near_occupied << " of " << sampled;
+  const std::string track = readFile(dir + "/trajectory.csv");
+  const size_t rows = std::count(track.begin(), track.end(), '\n');
+  EXPECT_EQ(track.rfind("time_s,x_m,y_m,z_m,yaw_rad\n", 0), 0u);
+  EXPECT_GT(rows, 0.5 * travelled_m / 0.2) << "a track sample every 0.2 m of flight";
+  const std::string reg = readFile(dir + "/registration.yaml");
+  EXPECT_EQ(reg.find("active_hypothesis_id: null") == std::string::npos,
+            e.expect_active_hypothesis)
+      << reg;
+}
+
 TEST(Mission, ExploresToTheCoverageGoalWithoutCollision) {
   ros::NodeHandle nh;
   const Expectations e = readExpectations();
+  // A map left by an earlier run must not pass for this one's.
+  if (!e.map_dir.empty()) std::filesystem::remove_all(e.map_dir);
   MissionWatch watch(nh, e);
   ASSERT_TRUE(waitForMessage<SimulatorStatus>(nh, "sim_status", 90.0)) << "no simulator";
 
@@ -175,6 +231,26 @@ TEST(Mission, ExploresToTheCoverageGoalWithoutCollision) {
     ASSERT_GE(watch.distance_at_dropout_end_m, 0.0) << "the mission ended before the dropout did";
     EXPECT_GT(s.travelled_distance, watch.distance_at_dropout_end_m + 5.0)
         << "the vehicle did not carry on after the dropout";
+  }
+  if (!e.map_dir.empty() && watch.finished) {
+    // Written by the planner when it said it finished; give its file writing a moment.
+    const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(20.0);
+    while (!std::filesystem::exists(e.map_dir + "/registration.yaml") &&
+           ros::WallTime::now() < until)
+      ros::WallDuration(0.2).sleep();
+    ASSERT_TRUE(std::filesystem::exists(e.map_dir + "/registration.yaml"))
+        << "the planner left no mission map in " << e.map_dir;
+    checkMissionMap(e.map_dir, e, s.travelled_distance);
+    // And again on request, over the service (into a folder emptied first).
+    std::filesystem::remove_all(e.map_dir);
+    std_srvs::Trigger call;
+    ASSERT_TRUE(ros::service::waitForService("save_map", ros::Duration(10.0)));
+    ASSERT_TRUE(ros::service::call("save_map", call));
+    EXPECT_TRUE(call.response.success) << call.response.message;
+    EXPECT_NE(call.response.message.find(e.map_dir + "/cloud.pcd"), std::string::npos)
+        << call.response.message;
+    EXPECT_GT(efs::loadPcdPoints(e.map_dir + "/cloud.pcd").size(), 20000u);
+    EXPECT_TRUE(std::filesystem::exists(e.map_dir + "/occupancy.bt"));
   }
   if (e.expect_no_hypothesis) {
     EXPECT_EQ(watch.max_hypotheses, 0.0)

@@ -1,7 +1,8 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 //
 // se3_controller_node (two instances: SO3Command output, and AttitudeTarget output in the
-// namespace px4) fed odometry and position commands by the test: hover gives thrust m g and a
+// namespace px4) fed odometry and position commands by the test: nothing is commanded before
+// the first odometry; hover gives thrust m g and a
 // level attitude (normalised hover throttle on AttitudeTarget); stale odometry keeps commands
 // coming, level, near m g (height held before any descent); a NaN command is refused and the vehicle hovers; without
 // commands it hovers where it is.
@@ -93,6 +94,15 @@ class Se3ControllerNodeTest : public ::testing::Test {
 };
 
 TEST_F(Se3ControllerNodeTest, HoverStaleOdometryAndNanCommand) {
+  // Before any odometry the node says nothing: a command "motors off" sent to a vehicle that is
+  // already in the air (a simulator starting in hover, a node restarted in flight) drops it.
+  {
+    efs::rostest::LogCollector logs(log_nh_);
+    run(0.6, false, 1.0);
+    EXPECT_TRUE(so3_.empty()) << so3_.size() << " SO3 commands before any odometry";
+    EXPECT_TRUE(att_.empty()) << att_.size() << " attitude targets before any odometry";
+    EXPECT_TRUE(logs.waitFor("/se3_controller", "no valid odometry yet", 5.0));
+  }
   run(1.0, true, 1.0);
   ASSERT_GT(so3_.size(), 50u);
   ASSERT_GT(att_.size(), 50u);

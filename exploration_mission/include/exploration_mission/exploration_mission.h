@@ -103,6 +103,9 @@ class ExplorationMission {
   const MissionConfig& config() const { return config_; }
   /// The latest registration result (empty without a prior).
   const registration::RegistrationResult* registrationResult() const;
+  /// Writes what the mission leaves behind into `directory` (planner::MissionMap::save: dense
+  /// cloud, OctoMap, track, registration). Throws std::runtime_error naming a file it cannot write.
+  planner::SavedMissionMap saveMap(const std::string& directory) const;
   /// The local planner's state (its occupancy window, current trajectory), for diagnostics.
   const traj::TrajectoryServer& trajectoryServer() const { return trajectory_; }
 
@@ -118,6 +121,7 @@ class ExplorationMission {
   lio::FrameDecimator registration_frames_;
   std::unique_ptr<registration::SketchRegistration> registration_;
   std::unique_ptr<planner::ExplorationManager> exploration_;
+  planner::MissionMap mission_map_;
   traj::TrajectoryServer trajectory_;
   control::Se3Controller controller_;
   MissionLog log_;
@@ -131,6 +135,7 @@ class ExplorationMission {
   Eigen::Vector3d hold_position_m_ = Eigen::Vector3d::Zero();
   double hold_yaw_rad_ = 0.0;
   std::string planner_state_ = "waiting";
+  std::optional<int> last_active_hypothesis_id_;  ///< the last one the guidance used
   std::function<void(const sim::Simulator&)> observer_;
 };
 

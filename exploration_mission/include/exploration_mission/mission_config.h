@@ -9,6 +9,7 @@
 #include "marsim_worlds/simulation_session.h"
 #include "minco_traj/trajectory_server.h"
 #include "prior_guided_planner/exploration_manager.h"
+#include "prior_guided_planner/mission_map.h"
 #include "se3_controller/se3_controller.h"
 #include "sketch_registration/sketch_registration.h"
 
@@ -21,6 +22,11 @@ struct MissionConfig {
   double registration_rate_hz = 0.2;  ///< frames per second of simulated time (paper: 0.2 Hz)
   registration::SketchRegistrationConfig registration;
   planner::ExplorationManagerConfig exploration;
+  /// What the mission leaves behind (dense cloud, occupancy, track, registration).
+  planner::MissionMapConfig mission_map;
+  /// Keep the dense cloud and the track for saveMap(); benchmarks that save nothing turn it off
+  /// (on a 2 km cave the cloud is hundreds of MB per trial).
+  bool record_map = true;
   traj::TrajectoryServerConfig trajectory;
   control::Se3ControllerConfig controller;
   double control_rate_hz = 100.0;  ///< PositionCommand sampling and controller rate

@@ -25,6 +25,7 @@ LioBridgeConfig loadLioBridgeConfig(const ros::NodeHandle& private_nh) {
   p.get("max_speed_mps", c.monitor.max_speed_mps);
   p.get("min_jump_m", c.monitor.min_jump_m);
   p.get("velocity_window_s", c.velocity.window_s);
+  p.get("velocity_fit_order", c.velocity.fit_order);
   p.get("voxel_size_m", c.local_map.voxel_size_m);
   p.get("local_map_radius_m", c.local_map.window_radius_m);
   p.get("max_range_m", c.local_map.max_range_m);

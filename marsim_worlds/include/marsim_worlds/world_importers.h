@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "efs_common/pcd_io.h"
 #include "marsim_worlds/voxel_world.h"
 
 namespace efs::sim {
@@ -54,8 +55,7 @@ std::vector<Triangle> loadMeshTriangles(const std::string& path,
                                         const Eigen::Isometry3d& T_world_mesh,
                                         const Eigen::Vector3d& scale = Eigen::Vector3d::Ones());
 
-/// x, y, z of every point of a PCD file (points with a non-finite coordinate are dropped).
-std::vector<Eigen::Vector3f> loadPcdPoints(const std::string& path);
+using efs::loadPcdPoints;
 
 /// Conservative triangle / axis-aligned box overlap (separating axis test, Akenine-Moeller 2001).
 bool triangleOverlapsBox(const Eigen::Vector3d& box_centre, const Eigen::Vector3d& box_half,

@@ -2,7 +2,11 @@
 //
 // Local occupancy around the robot from registered scans (points already in the world frame).
 // A dense ring buffer of `size_*_m` around a movable centre: cells keep their log-odds while the
-// window slides, cells that leave it are forgotten. Free space is cleared by ray casting from the
+// window slides. Free and unknown cells that leave it are forgotten; occupied ones are kept in a
+// sparse surface memory (within memory_radius_m) and come back occupied when the window returns
+// over them, so a passage flown back through is not planned through as unknown (seen: a cave
+// floor hit at 3.6 m/s, the vehicle diving along a slope below the LiDAR's field of view into a
+// floor it had mapped on the way in). Free space is cleared by ray casting from the
 // sensor origin (Amanatides-Woo traversal), so unknown and free stay distinct. An inflation count
 // per cell (how many occupied cells lie within `inflation_radius_m` of its centre) is maintained
 // incrementally, so "blocked for a robot of this radius" is one lookup. Cell boundaries follow
@@ -12,6 +16,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <optional>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -42,6 +47,9 @@ struct LocalGridConfig {
   double logodds_min = -2.0;
   double logodds_max = 3.5;
   double logodds_occupied = 0.7;  ///< above this an observed cell is occupied
+  /// Occupied cells that left the window are remembered while within this horizontal distance
+  /// of the window centre; 0 forgets them.
+  double memory_radius_m = 100.0;
   void validate() const;
 };
 
@@ -101,6 +109,8 @@ class LocalGrid {
   size_t slot(const VoxelKey& k) const { return index(k); }
   size_t cellCount() const { return occupied_.size(); }
   size_t occupiedCount() const;
+  /// Occupied cells remembered outside the window.
+  size_t rememberedCount() const { return remembered_; }
 
  private:
   // Inline: called per visited cell by ray casting, inflation stamping and A*.
@@ -116,6 +126,15 @@ class LocalGrid {
   void stampInflation(const VoxelKey& k, int sign);
   void recomputeInflation();
   bool isInterior(const VoxelKey& k) const;
+  /// The block (kMemoryBlockBits cells a side) of the surface memory a cell belongs to.
+  static VoxelKey memoryBlock(const VoxelKey& k) {
+    return {k.x >> kMemoryBlockBits, k.y >> kMemoryBlockBits, k.z >> kMemoryBlockBits};
+  }
+  void remember(const VoxelKey& k, float logodds);
+  /// Brings remembered cells inside the window back into it (and out of the memory).
+  void restoreRemembered();
+  /// Drops memory blocks beyond memory_radius_m of the window centre.
+  void cropMemory();
 
   LocalGridConfig cfg_;
   int nx_ = 0, ny_ = 0, nz_ = 0;
@@ -128,6 +147,14 @@ class LocalGrid {
   uint32_t scan_id_ = 0;
   std::vector<VoxelKey> kernel_;
   std::vector<std::pair<uint64_t, uint32_t>> ray_bins_;  ///< scratch: (coarse key, point index)
+
+  struct RememberedCell {
+    VoxelKey key;
+    float logodds;
+  };
+  static constexpr int kMemoryBlockBits = 4;
+  std::unordered_map<VoxelKey, std::vector<RememberedCell>, VoxelKeyHash> memory_;
+  size_t remembered_ = 0;
 };
 
 /// Visits the cells a segment passes through (Amanatides-Woo), from the start cell to the end

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "minco_traj/astar.h"
 #include "minco_traj/corridor.h"
@@ -33,6 +34,11 @@ struct LocalPlannerConfig {
   YawPlannerConfig yaw;
   /// Braking deceleration of the emergency stop; 0 uses optimizer.a_max_mps2.
   double emergency_decel_mps2 = 0.0;
+  /// When the plan along the shortest path fails and the vehicle moves at least this fast, the
+  /// corridor is seeded through the point where it would stop (braking at this fraction of
+  /// optimizer.a_max_mps2) and the optimisation is tried once more.
+  double braking_first_min_speed_mps = 0.5;
+  double braking_first_decel_fraction = 0.7;
   void validate() const;
 };
 
@@ -64,6 +70,8 @@ struct PlanResult {
   /// Always flyable: the plan, or an emergency stop if status != kOk.
   Trajectory trajectory;
   bool emergency_stop = false;
+  /// The corridor was seeded through the braking point (the shortest path's failed).
+  bool braked_first = false;
   bool goal_adjusted = false;
   bool start_escaped = false;
   AStarResult front_end;
@@ -89,6 +97,14 @@ class LocalPlanner {
  private:
   PlanResult fail(PlanStatus s, const std::string& msg, const PlanRequest& req,
                   PlanResult&& partial) const;
+  /// Corridor along `path`, optimisation and yaw into `res`; false with the reason in `why`.
+  bool optimizeAlong(const LocalGrid& grid, const PlanRequest& req,
+                     const std::vector<Eigen::Vector3d>& path, PlanResult* res,
+                     std::string* why) const;
+  /// The start, the point just past where braking stops, then A* on to the goal; false when
+  /// the vehicle is slow, the braking segment is blocked or no path goes on from there.
+  bool brakingFirstPath(const LocalGrid& grid, const PlanRequest& req,
+                        std::vector<Eigen::Vector3d>* path) const;
   LocalPlannerConfig cfg_;
   AStarPlanner astar_;
   CorridorBuilder corridor_;

@@ -28,6 +28,7 @@
 
 #include "minco_traj/local_grid.h"
 #include "minco_traj/local_planner.h"
+#include "minco_traj/reference_track.h"
 #include "minco_traj/trajectory.h"
 
 namespace efs::traj {
@@ -50,17 +51,6 @@ struct TrajectoryServerConfig {
   /// of the window height); recentring costs a pass over the window.
   double recenter_distance_m = 2.0;
   void validate() const;
-};
-
-/// Content of a PositionCommand.
-struct ReferenceSample {
-  Eigen::Vector3d p_world_m = Eigen::Vector3d::Zero();
-  Eigen::Vector3d v_world_mps = Eigen::Vector3d::Zero();
-  Eigen::Vector3d a_world_mps2 = Eigen::Vector3d::Zero();
-  Eigen::Vector3d j_world_mps3 = Eigen::Vector3d::Zero();
-  double yaw_rad = 0.0;
-  double yaw_rate_radps = 0.0;
-  bool valid = false;  ///< false until the first trajectory / hold point exists
 };
 
 enum class ServerEvent {
@@ -111,11 +101,13 @@ class TrajectoryServer {
   /// Odometry is back: the reference continues from the held state (a brake to rest if it was
   /// still moving) and the goal is replanned on the next update().
   void resumeFromHold(double time_s);
-  bool holdingAlongPath() const { return warp_.has_value(); }
+  bool holdingAlongPath() const { return track_.holding(); }
 
   /// The newest trajectory (nullptr before the first one) and its start time.
-  const Trajectory* current() const { return current_ ? &*current_ : nullptr; }
-  double currentStart_s() const { return current_start_s_; }
+  const Trajectory* current() const { return track_.current(); }
+  double currentStart_s() const { return track_.currentStart_s(); }
+  /// Everything sample() reads: a copy samples the same reference on another thread.
+  const ReferenceTrack& track() const { return track_; }
   /// The last planner result (nullptr before the first plan).
   const PlanResult* lastPlan() const { return last_plan_ ? &*last_plan_ : nullptr; }
   const LocalGrid& grid() const { return grid_; }
@@ -132,23 +124,13 @@ class TrajectoryServer {
   /// Recentres the grid on p when p is outside the window, or when may_move and p is more than
   /// recenter_distance_m from the window centre.
   void followWith(const Eigen::Vector3d& p_world_m, bool may_move);
-  std::optional<ReferenceSample> referenceAt(double time_s) const;
-  std::optional<ReferenceSample> unwarpedReferenceAt(double time_s) const;
+  std::optional<ReferenceSample> referenceAt(double time_s) const { return track_.at(time_s); }
   double holdDecel() const;
-
-  /// Time warp of holdAlongPath: reference(t) = trajectory(tau(t)), tau(t0) = t0, the rate
-  /// dtau/dt = max(0, 1 - (t - t0) / stop_s).
-  struct Warp {
-    double t0_s = 0.0;
-    double stop_s = 0.0;
-  };
-  std::optional<Warp> warp_;
 
   TrajectoryServerConfig cfg_;
   LocalGrid grid_;
   LocalPlanner planner_;
-  std::optional<Trajectory> current_, previous_;
-  double current_start_s_ = 0.0, previous_start_s_ = 0.0;
+  ReferenceTrack track_;
   std::optional<PlanResult> last_plan_;
   std::optional<Eigen::Vector3d> goal_, look_at_;
   bool new_goal_ = false;

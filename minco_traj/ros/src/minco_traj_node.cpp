@@ -36,6 +36,7 @@ MincoTrajNodeConfig loadMincoTrajNodeConfig(const ros::NodeHandle& private_nh) {
   p.get("grid/inflation_radius_m", s.grid.inflation_radius_m);
   p.get("grid/max_ray_length_m", s.grid.max_ray_length_m);
   p.get("grid/ray_downsample_m", s.grid.ray_downsample_m);
+  p.get("grid/memory_radius_m", s.grid.memory_radius_m);
   p.get("astar/unknown_is_free", s.planner.astar.unknown_is_free);
   p.get("astar/goal_search_radius_m", s.planner.astar.goal_search_radius_m);
   p.get("astar/start_escape_radius_m", s.planner.astar.start_escape_radius_m);
@@ -49,6 +50,8 @@ MincoTrajNodeConfig loadMincoTrajNodeConfig(const ros::NodeHandle& private_nh) {
   p.get("yaw/yaw_rate_max_radps", s.planner.yaw.yaw_rate_max_radps);
   p.get("yaw/yaw_acc_max_radps2", s.planner.yaw.yaw_acc_max_radps2);
   p.get("emergency_decel_mps2", s.planner.emergency_decel_mps2);
+  p.get("braking_first_min_speed_mps", s.planner.braking_first_min_speed_mps);
+  p.get("braking_first_decel_fraction", s.planner.braking_first_decel_fraction);
   p.rejectUnknown();
   requireThat(!c.world_frame.empty(), "world_frame", "must not be empty");
   requireInRange("command_rate_hz", c.command_rate_hz, 1.0, 1000.0);
@@ -70,15 +73,42 @@ MincoTrajNode::MincoTrajNode(ros::NodeHandle nh, const MincoTrajNodeConfig& conf
       ros::VoidPtr(), &odom_queue_);
   odom_sub_ = nh.subscribe(odom_options);
   target_sub_ = nh.subscribe(topics::kTarget, 5, &MincoTrajNode::onTarget, this);
-  timer_ =
-      nh.createTimer(ros::Duration(1.0 / config_.command_rate_hz), &MincoTrajNode::onTimer, this);
+  const ros::Duration period(1.0 / config_.command_rate_hz);
+  plan_timer_ = nh.createTimer(period, &MincoTrajNode::onPlanTimer, this);
+  ros::TimerOptions command_options(
+      period, [this](const ros::TimerEvent& e) { onCommandTimer(e); }, &command_queue_);
+  command_timer_ = nh.createTimer(command_options);
   odom_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &odom_queue_);
   odom_spinner_->start();
+  command_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &command_queue_);
+  command_spinner_->start();
 }
 
 MincoTrajNode::~MincoTrajNode() {
+  command_timer_.stop();
+  if (command_spinner_) command_spinner_->stop();
   odom_sub_.shutdown();
   if (odom_spinner_) odom_spinner_->stop();
+}
+
+void MincoTrajNode::refreshCommandSource() {
+  const bool stopping = server_.stopping();
+  {
+    std::lock_guard<std::mutex> lock(command_mutex_);
+    if (command_source_ && command_source_revision_ == server_.track().revision() &&
+        command_source_->stopping == stopping && command_source_->goal_reached == goal_reached_ &&
+        command_source_->trajectory_id == trajectory_id_)
+      return;
+  }
+  // The copy is made outside the lock; the command thread keeps sampling the old one meanwhile.
+  auto fresh = std::make_shared<CommandSource>();
+  fresh->track = server_.track();
+  fresh->stopping = stopping;
+  fresh->goal_reached = goal_reached_;
+  fresh->trajectory_id = trajectory_id_;
+  std::lock_guard<std::mutex> lock(command_mutex_);
+  command_source_ = std::move(fresh);
+  command_source_revision_ = server_.track().revision();
 }
 
 std::pair<std::optional<VehicleState>, ros::Time> MincoTrajNode::latestState() const {
@@ -136,10 +166,11 @@ void MincoTrajNode::onTarget(const geometry_msgs::PoseStamped::ConstPtr& msg) {
     return;
   }
   goal_reached_ = false;
+  refreshCommandSource();
   ROS_INFO("minco_traj: %s", server_.lastMessage().c_str());
 }
 
-void MincoTrajNode::onTimer(const ros::TimerEvent&) {
+void MincoTrajNode::onPlanTimer(const ros::TimerEvent&) {
   const ros::Time now = ros::Time::now();
   const double t = now.toSec();
   const auto [state, state_stamp] = latestState();
@@ -168,16 +199,27 @@ void MincoTrajNode::onTimer(const ros::TimerEvent&) {
   } else if (server_.goal()) {
     ROS_WARN_THROTTLE(1.0, "minco_traj: no recent odometry; not replanning");
   }
-  const ReferenceSample s = server_.sample(t);
-  if (!s.valid) return;
+  refreshCommandSource();
+}
+
+void MincoTrajNode::onCommandTimer(const ros::TimerEvent&) {
+  std::shared_ptr<const CommandSource> source;
+  {
+    std::lock_guard<std::mutex> lock(command_mutex_);
+    source = command_source_;
+  }
+  if (!source) return;
+  const ros::Time now = ros::Time::now();
+  const std::optional<ReferenceSample> s = source->track.at(now.toSec());
+  if (!s || !s->valid) return;
   std_msgs::Header h;
   h.stamp = now;
   h.frame_id = config_.world_frame;
   using Cmd = explore_from_sketch::PositionCommand;
-  const uint8_t flag = server_.stopping() ? Cmd::TRAJECTROY_STATUS_ABORT
-                       : goal_reached_    ? Cmd::TRAJECTORY_STATUS_COMPLETED
-                                          : Cmd::TRAJECTORY_STATUS_READY;
-  cmd_pub_.publish(toPositionCommand(s, trajectory_id_, flag, h));
+  const uint8_t flag = source->stopping       ? Cmd::TRAJECTROY_STATUS_ABORT
+                       : source->goal_reached ? Cmd::TRAJECTORY_STATUS_COMPLETED
+                                              : Cmd::TRAJECTORY_STATUS_READY;
+  cmd_pub_.publish(toPositionCommand(*s, source->trajectory_id, flag, h));
 }
 
 void MincoTrajNode::publishTrajectory(const ros::Time& now, ServerEvent event) {

@@ -136,6 +136,22 @@ class OccupancyMap {
   bool lineOfSight(const Eigen::Vector3d& from_world_m, const Eigen::Vector3d& to_world_m,
                    bool unknown_blocks, int ignore_near_to_cells = 0) const;
 
+  /// Calls f(cell key, log-odds, state) for every known cell, in no particular order.
+  template <typename F>
+  void forEachKnownCell(F&& f) const {
+    for (const auto& [block_key, block] : blocks_) {
+      for (int i = 0; i < kBlockCells; ++i) {
+        const int8_t v = block->cells[i].log_odds;
+        if (v == kUnknownValue) continue;
+        // Multiplication, not a shift: block keys are negative on one side of the origin.
+        const VoxelKey cell{block_key.x * kBlockSize + (i & (kBlockSize - 1)),
+                            block_key.y * kBlockSize + ((i >> kBlockBits) & (kBlockSize - 1)),
+                            block_key.z * kBlockSize + (i >> (2 * kBlockBits))};
+        f(cell, v * kQuantum, classify(v));
+      }
+    }
+  }
+
   size_t numBlocks() const { return blocks_.size(); }
   size_t numKnownCells() const { return known_cells_; }
   /// Heap bytes of the block store (blocks + hash table), an estimate for benchmarks.

@@ -8,6 +8,7 @@
 #include <nav_msgs/Path.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -89,6 +90,10 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("greedy_sensor_range_m", e.planner.greedy.sensor_range_m);
   int max_cells = static_cast<int>(c.markers.max_frontier_cells);
   p.get("max_marker_frontier_cells", max_cells);
+  p.get("map_output_dir", c.map_output_dir);
+  p.get("map_cloud_voxel_m", c.mission_map.cloud_voxel_m);
+  p.get("map_trajectory_spacing_m", c.mission_map.trajectory_spacing_m);
+  c.mission_map.max_range_m = max_range_m;
   p.rejectUnknown();
 
   requireThat(!c.world_frame.empty(), "world_frame", "must not be empty");
@@ -99,6 +104,7 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   requireInRange("max_marker_frontier_cells", max_cells, 0, 10000000);
   c.markers.max_frontier_cells = static_cast<size_t>(max_cells);
   e.validate();
+  c.mission_map.validate();
   return c;
 }
 
@@ -120,6 +126,12 @@ PriorGuidedPlannerNode::PriorGuidedPlannerNode(ros::NodeHandle nh,
     ROS_INFO("prior_guided_planner: no prior bundle; exploring prior-free");
   }
   manager_.emplace(config_.exploration, std::move(prior));
+  if (!config_.map_output_dir.empty()) {
+    mission_map_.emplace(config_.mission_map);
+    ROS_INFO("prior_guided_planner: the mission map goes to %s at the end (service %s saves it "
+             "now)",
+             config_.map_output_dir.c_str(), nh.resolveName(topics::kSaveMap).c_str());
+  }
 
   target_pub_ = nh.advertise<geometry_msgs::PoseStamped>(topics::kTarget, 5);
   look_at_pub_ = nh.advertise<geometry_msgs::PointStamped>(topics::kLookAt, 5);
@@ -130,6 +142,7 @@ PriorGuidedPlannerNode::PriorGuidedPlannerNode(ros::NodeHandle nh,
   odom_sub_ = nh.subscribe(topics::kOdom, 50, &PriorGuidedPlannerNode::onOdometry, this);
   scan_sub_ = nh.subscribe(topics::kScanWorld, 5, &PriorGuidedPlannerNode::onScan, this);
   hyp_sub_ = nh.subscribe(topics::kHypotheses, 5, &PriorGuidedPlannerNode::onHypotheses, this);
+  save_map_srv_ = nh.advertiseService(topics::kSaveMap, &PriorGuidedPlannerNode::onSaveMap, this);
   timer_ = nh.createTimer(ros::Duration(1.0 / config_.plan_rate_hz),
                           &PriorGuidedPlannerNode::onTimer, this);
 }
@@ -163,6 +176,7 @@ void PriorGuidedPlannerNode::onOdometry(const nav_msgs::Odometry::ConstPtr& msg)
   pose.yaw_rad = std::atan2(r(1, 0), r(0, 0));
   if (robot_) travelled_m_ += (pos - robot_->position_world_m).norm();
   robot_ = pose;
+  if (mission_map_) mission_map_->addPose(msg->header.stamp.toSec(), pos, pose.yaw_rad);
   last_odom_stamp_ = msg->header.stamp;
   if (!first_odom_stamp_) first_odom_stamp_ = msg->header.stamp;
 }
@@ -186,6 +200,7 @@ void PriorGuidedPlannerNode::onScan(const sensor_msgs::PointCloud2::ConstPtr& ms
   }
   const size_t dropped_before = manager_->inputStats().points_dropped_nonfinite;
   manager_->insertScan(robot_->position_world_m, pts);
+  if (mission_map_) mission_map_->insertScan(robot_->position_world_m, pts);
   const size_t dropped = manager_->inputStats().points_dropped_nonfinite - dropped_before;
   if (dropped > 0)
     reject("scan: " + std::to_string(dropped) + " of " + std::to_string(pts.size()) +
@@ -220,6 +235,7 @@ void PriorGuidedPlannerNode::onTimer(const ros::TimerEvent&) {
            std::to_string(config_.odom_timeout_s) + " s): not planning");
   } else if (robot_) {
     const ExplorationTarget& t = manager_->update(now.toSec(), *robot_);
+    if (t.active_hypothesis_id) last_active_hypothesis_id_ = t.active_hypothesis_id;
     if (t.message != last_logged_) {
       if (t.message.find("refused") != std::string::npos ||
           t.message.find("dropped") != std::string::npos)
@@ -256,10 +272,52 @@ void PriorGuidedPlannerNode::onTimer(const ros::TimerEvent&) {
     }
     tour_pub_.publish(tour);
     if (t.replanned) publishGuidepoints(now);
+    if (t.state == ExplorationState::kFinished && !saved_at_finish_) {
+      saved_at_finish_ = true;
+      saveMap("exploration finished");
+    }
     if (markers_pub_.getNumSubscribers() > 0)
       markers_pub_.publish(plannerMarkers(*manager_, *robot_, header, config_.markers));
   }
   publishStatus(now);
+}
+
+bool PriorGuidedPlannerNode::saveMap(const std::string& why, std::string* message) {
+  std::string said;
+  bool ok = false;
+  if (!mission_map_) {
+    said = "no mission map is kept: map_output_dir is empty";
+  } else {
+    MapRegistration reg;
+    reg.hypotheses = manager_->hypotheses();
+    std::sort(reg.hypotheses.begin(), reg.hypotheses.end(),
+              [](const Hypothesis& a, const Hypothesis& b) { return a.confidence > b.confidence; });
+    reg.active_hypothesis_id = last_active_hypothesis_id_;
+    reg.world_frame = config_.world_frame;
+    reg.sketch_frame = config_.sketch_frame;
+    try {
+      const SavedMissionMap s = mission_map_->save(config_.map_output_dir, manager_->occupancy(), reg);
+      said = "mission map saved (" + why + "): " + s.cloud_pcd + " (" +
+             std::to_string(s.cloud_points) + " points), " + s.occupancy_bt + " (" +
+             std::to_string(s.occupied_cells) + " occupied, " + std::to_string(s.free_cells) +
+             " free cells), " + s.trajectory_csv + ", " + s.registration_yaml;
+      ok = true;
+    } catch (const std::exception& e) {
+      said = "mission map NOT saved (" + why + "): " + e.what();
+    }
+  }
+  if (ok)
+    ROS_INFO("prior_guided_planner: %s", said.c_str());
+  else
+    ROS_ERROR("prior_guided_planner: %s", said.c_str());
+  if (message) *message = said;
+  return ok;
+}
+
+bool PriorGuidedPlannerNode::onSaveMap(std_srvs::Trigger::Request&,
+                                       std_srvs::Trigger::Response& res) {
+  res.success = saveMap("asked by service", &res.message);
+  return true;
 }
 
 void PriorGuidedPlannerNode::publishStatus(const ros::Time& now) {

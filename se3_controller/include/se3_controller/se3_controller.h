@@ -121,7 +121,7 @@ enum class ControlMode {
   kHoldPosition,  ///< reference stale or invalid: hovering at the latched position
   kFeedForward,   ///< odometry stale, reference fresh: following it on a dead-reckoned state
   kLevelDescend,  ///< odometry stale: brake against the last velocity, level, hold, then descend
-  kNoOdometry     ///< nothing valid received yet: motors idle
+  kNoOdometry     ///< nothing valid received yet: motors idle (the ROS node sends nothing)
 };
 const char* toString(ControlMode m);
 

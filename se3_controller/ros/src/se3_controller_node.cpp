@@ -123,6 +123,7 @@ void Se3ControllerNode::onOdom(const nav_msgs::Odometry::ConstPtr& msg) {
     o.a_world_mps2 = (o.v_world_mps - odom_.v_world_mps) / dt;
   }
   odom_ = o;
+  have_odom_msg_ = true;
   const ros::Time now = ros::Time::now();
   if (last_step_ && (now - *last_step_).toSec() < 0.9 / config_.control_rate_hz) return;
   step(now);
@@ -132,6 +133,8 @@ void Se3ControllerNode::onImu(const sensor_msgs::Imu::ConstPtr& msg) {
   const ros::Time stamp = msg->header.stamp.isZero() ? ros::Time::now() : msg->header.stamp;
   const auto& f = msg->linear_acceleration;
   const Eigen::Vector3d f_body(f.x, f.y, f.z);
+  // Without its own orientation the IMU is rotated by the odometry's; none yet, no use.
+  if (msg->orientation_covariance[0] < 0.0 && !have_odom_msg_) return;
   Eigen::Quaterniond q = odom_.q_world_body;
   if (msg->orientation_covariance[0] >= 0.0) {
     const auto& m = msg->orientation;
@@ -167,6 +170,17 @@ void Se3ControllerNode::warnThrottledPerKind(const ros::Time& now, const Control
 
 void Se3ControllerNode::step(const ros::Time& now) {
   last_step_ = now;
+  if (!have_odom_msg_) {
+    // odom_ is a placeholder until then: a vehicle "at the origin, at rest" would be commanded
+    // toward the origin (seen: a simulated vehicle starting in hover at 10 m dived into the floor).
+    // Wall time: before the first odometry a simulated clock may not run yet.
+    const ros::WallTime wall = ros::WallTime::now();
+    if (!said_waiting_ || (wall - *said_waiting_).toSec() >= 1.0) {
+      ROS_WARN("se3_controller: no_odometry: no valid odometry yet: commanding nothing");
+      said_waiting_ = wall;
+    }
+    return;
+  }
   const ControlOutput out = controller_.update(odom_, ref_, now.toSec());
   if (out.mode != last_mode_ || out.odometry_rejected) {
     if (out.mode == ControlMode::kTracking && !out.odometry_rejected)
@@ -175,6 +189,10 @@ void Se3ControllerNode::step(const ros::Time& now) {
       warnThrottledPerKind(now, out);
     last_mode_ = out.mode;
   }
+  // Nothing to command from: stay silent rather than send "motors off" to a vehicle that may be
+  // in the air (a simulator starting in hover, this node restarted in flight). A flight
+  // controller whose setpoint stream stops falls back to its own failsafe.
+  if (out.mode == ControlMode::kNoOdometry) return;
   std_msgs::Header h;
   h.stamp = now;
   h.frame_id = config_.world_frame;

@@ -22,6 +22,10 @@ Points2d makeCandidateGrid(const Eigen::Vector2d& min_m, const Eigen::Vector2d& 
 
 struct RetrievalConfig {
   double eta = 0.05;                   ///< candidate rate: top fraction kept (paper eta)
+  /// At least this many are ranked however small the sketch: eta of a 40 m cave's 101
+  /// candidates is 6, 2-3 after downsampling, and the truth was often not among them (seen: a
+  /// recorded cave flight never registered). No effect once eta N is larger (the paper's worlds).
+  int min_ranked_candidates = 12;
   SimilarityWeights weights;           ///< alpha_1..3
   double downsample_radius_m = 3.0;    ///< sketch frame; raw candidates closer merge
   int max_candidates_per_frame = 120;  ///< bounds the triplet combinatorics

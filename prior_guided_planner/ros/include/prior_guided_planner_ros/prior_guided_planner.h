@@ -7,17 +7,22 @@
 // states and rviz markers. Bad input (malformed or non-finite clouds, odometry going back in
 // time or not finite, hypotheses with NaN or non-positive scale, clouds or hypotheses in another
 // frame) is refused or cleaned with a logged reason; the node keeps running.
+// With map_output_dir set, the node keeps what the mission leaves behind (planner::MissionMap:
+// dense cloud, OctoMap of its occupancy, track, registration) and writes it there when the
+// exploration finishes, when asked (service save_map) and when the node shuts down.
 #pragma once
 
 #include <explore_from_sketch/RegistrationHypotheses.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <std_srvs/Trigger.h>
 
 #include <optional>
 #include <string>
 
 #include "prior_guided_planner/exploration_manager.h"
+#include "prior_guided_planner/mission_map.h"
 #include "prior_guided_planner_ros/planner_markers.h"
 
 namespace efs::planner {
@@ -31,6 +36,8 @@ struct PriorGuidedPlannerNodeConfig {
   double odom_timeout_s = 1.0;
   PlannerMarkerOptions markers;
   ExplorationManagerConfig exploration;
+  std::string map_output_dir;  ///< empty: no map is kept or saved
+  MissionMapConfig mission_map;
 };
 
 /// Reads and validates the private parameters (every key of config/prior_guided_planner.yaml);
@@ -42,6 +49,10 @@ class PriorGuidedPlannerNode {
   /// Throws when the prior bundle cannot be loaded (the message names the file and the defect).
   PriorGuidedPlannerNode(ros::NodeHandle nh, const PriorGuidedPlannerNodeConfig& config);
 
+  /// Writes the mission map to map_output_dir (nothing without one); `why` goes into the log.
+  /// Returns false, with the reason logged and in `message`, when a file cannot be written.
+  bool saveMap(const std::string& why, std::string* message = nullptr);
+
  private:
   void onOdometry(const nav_msgs::Odometry::ConstPtr& msg);
   void onScan(const sensor_msgs::PointCloud2::ConstPtr& msg);
@@ -50,9 +61,13 @@ class PriorGuidedPlannerNode {
   void publishStatus(const ros::Time& now);
   void publishGuidepoints(const ros::Time& now);
   void reject(const std::string& why);
+  bool onSaveMap(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
 
   PriorGuidedPlannerNodeConfig config_;
   std::optional<ExplorationManager> manager_;
+  std::optional<MissionMap> mission_map_;
+  bool saved_at_finish_ = false;
+  std::optional<int> last_active_hypothesis_id_;  ///< the last one the guidance used
   std::optional<RobotPose> robot_;
   std::optional<ros::Time> last_odom_stamp_;
   std::optional<ros::Time> first_odom_stamp_;
@@ -63,6 +78,7 @@ class PriorGuidedPlannerNode {
 
   ros::Subscriber odom_sub_, scan_sub_, hyp_sub_;
   ros::Publisher target_pub_, look_at_pub_, tour_pub_, status_pub_, guidepoints_pub_, markers_pub_;
+  ros::ServiceServer save_map_srv_;
   ros::Timer timer_;
 };
 

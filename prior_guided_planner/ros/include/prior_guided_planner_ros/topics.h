@@ -16,5 +16,7 @@ constexpr const char* kTour = "exploration_tour";       // nav_msgs/Path: robot 
 constexpr const char* kStatus = "exploration_status";   // ExplorationStatus
 constexpr const char* kGuidepoints = "guidepoints";     // Guidepoints (states, sketch frame)
 constexpr const char* kMarkers = "planner_markers";     // visualization_msgs/MarkerArray
+// Services
+constexpr const char* kSaveMap = "save_map";  // std_srvs/Trigger: write the mission map now
 
 }  // namespace efs::planner::topics

@@ -51,10 +51,12 @@ class Se3ControllerNode {
   Se3ControllerNodeConfig config_;
   Se3Controller controller_;
   OdometryState odom_;
+  bool have_odom_msg_ = false;  ///< odom_ holds a received message (not the default state)
+  std::optional<ros::WallTime> said_waiting_;  ///< when "no odometry yet" was last said
   FlatReference ref_;
   bool have_ref_ = false;
   std::optional<ros::Time> last_step_, last_imu_;
-  ControlMode last_mode_ = ControlMode::kNoOdometry;
+  std::optional<ControlMode> last_mode_;  ///< unset until the first step, which is always said
   std::map<std::pair<ControlMode, bool>, ros::Time> last_warning_;  ///< by (mode, odom rejected)
 
   ros::Subscriber cmd_sub_, odom_sub_, imu_sub_;

@@ -1,8 +1,9 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 //
-// A small PCD (v0.7 and older) reader for x/y/z: ascii, binary and binary_compressed (LZF).
-// Own code rather than pcl::io so that the world library does not pull PCL's headers in.
+// PCD (v0.7 and older) for x/y/z. Own code rather than pcl::io so that core libraries do not
+// pull PCL's headers in (and PCL's compile time) for a file format this small.
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -12,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "marsim_worlds/world_importers.h"
+#include "efs_common/pcd_io.h"
 
-namespace efs::sim {
+namespace efs {
 namespace {
 
 struct PcdField {
@@ -249,4 +250,32 @@ std::vector<Eigen::Vector3f> loadPcdPoints(const std::string& path) {
   return out;
 }
 
-}  // namespace efs::sim
+void writePcdBinary(const std::string& path, const std::vector<Eigen::Vector3f>& points_m) {
+  // Written beside the target and renamed over it, so a reader never sees a half-written map.
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error("cannot write PCD '" + path + "' (cannot create " + tmp + ")");
+    std::vector<float> xyz;
+    xyz.reserve(3 * points_m.size());
+    for (const auto& p : points_m) {
+      if (!p.allFinite()) continue;
+      xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
+    }
+    const size_t n = xyz.size() / 3;
+    out << "# .PCD v0.7 - Point Cloud Data file format\n"
+        << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+        << "WIDTH " << n << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << n
+        << "\nDATA binary\n";
+    out.write(reinterpret_cast<const char*>(xyz.data()),
+              static_cast<std::streamsize>(xyz.size() * sizeof(float)));
+    out.flush();
+    if (!out) throw std::runtime_error("cannot write PCD '" + path + "': write failed (disk full?)");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error("cannot write PCD '" + path + "': rename from " + tmp + " failed");
+  }
+}
+
+}  // namespace efs
