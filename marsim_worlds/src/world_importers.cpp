@@ -371,7 +371,6 @@ void paintScene(const Scene& scene, int point_dilation_voxels, VoxelWorld& world
   }
 }
 
-/// Deterministic start: enclosed, clear, with the most room (to 2 m), closest to the centre.
 /// Deterministic start: in the largest connected free region at the start height that does not
 /// reach the grid's border (the inside of the building or mine, not the open space around it,
 /// nor the hollow inside of a meshed rock pillar), clear of obstacles, with the most room (to

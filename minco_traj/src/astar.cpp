@@ -14,6 +14,9 @@ void AStarConfig::validate() const {
   requireInRange("astar.start_escape_radius_m", start_escape_radius_m, 0.0, 10.0);
   requireInRange("astar.max_expansions", max_expansions, 1, 100000000);
   requireInRange("astar.heuristic_weight", heuristic_weight, 1.0, 10.0);
+  requireInRange("astar.narrow_clearance_m", narrow_clearance_m, 0.0, 10.0);
+  requireInRange("astar.unknown_cost_factor", unknown_cost_factor, 1.0, 100.0);
+  requireInRange("astar.unknown_height_margin_m", unknown_height_margin_m, 0.0, 1000.0);
 }
 
 const char* toString(AStarStatus s) {
@@ -56,14 +59,38 @@ struct Node {
 };
 }  // namespace
 
+AStarPlanner::Band AStarPlanner::unknownBand(double z0_m, double z1_m) const {
+  return {std::min(z0_m, z1_m) - cfg_.unknown_height_margin_m,
+          std::max(z0_m, z1_m) + cfg_.unknown_height_margin_m};
+}
+
+bool AStarPlanner::traversable(const LocalGrid& grid, const VoxelKey& k,
+                               const Band& unknown_band) const {
+  if (grid.isBlocked(k, cfg_.unknown_is_free, cfg_.narrow_clearance_m)) return false;
+  if (!cfg_.unknown_is_free || grid.state(k) != CellState::kUnknown) return true;
+  const double z = grid.center(k).z();
+  return z >= unknown_band.lo_z_m && z <= unknown_band.hi_z_m;
+}
+
+bool AStarPlanner::segmentClear(const LocalGrid& grid, const Eigen::Vector3d& a,
+                                const Eigen::Vector3d& b, const Band& unknown_band) const {
+  return traverseCells(a, b, grid.resolution(),
+                       [&](const VoxelKey& k) { return traversable(grid, k, unknown_band); });
+}
+
 bool AStarPlanner::lineOfSight(const LocalGrid& grid, const Eigen::Vector3d& a,
                                const Eigen::Vector3d& b) const {
-  return traverseCells(a, b, grid.resolution(),
-                       [&](const VoxelKey& k) { return !grid.isBlocked(k, cfg_.unknown_is_free); });
+  return segmentClear(grid, a, b, unknownBand(a.z(), b.z()));
 }
 
 bool AStarPlanner::nearestFree(const LocalGrid& grid, const VoxelKey& k, double radius_m,
                                VoxelKey* out) const {
+  const double z = grid.center(k).z();
+  return nearestTraversable(grid, k, radius_m, unknownBand(z, z), out);
+}
+
+bool AStarPlanner::nearestTraversable(const LocalGrid& grid, const VoxelKey& k, double radius_m,
+                                      const Band& unknown_band, VoxelKey* out) const {
   const int r = static_cast<int>(std::ceil(radius_m / grid.resolution()));
   const double r2 = std::pow(radius_m / grid.resolution(), 2) + 1e-9;
   double best = 1e300;
@@ -73,7 +100,7 @@ bool AStarPlanner::nearestFree(const LocalGrid& grid, const VoxelKey& k, double 
         const double d2 = dx * dx + dy * dy + dz * dz;
         if (d2 > r2 || d2 >= best) continue;
         const VoxelKey n{k.x + dx, k.y + dy, k.z + dz};
-        if (grid.isBlocked(n, cfg_.unknown_is_free)) continue;
+        if (!traversable(grid, n, unknown_band)) continue;
         best = d2;
         *out = n;
       }
@@ -111,10 +138,11 @@ AStarResult AStarPlanner::plan(const LocalGrid& grid, const Eigen::Vector3d& sta
     res.goal_adjusted = true;
   }
   VoxelKey sk = grid.key(start), gk = grid.key(goal);
+  const Band band = unknownBand(start.z(), goal.z());
   Eigen::Vector3d escape_point = start;
-  if (grid.isBlocked(sk, cfg_.unknown_is_free)) {
+  if (!traversable(grid, sk, band)) {
     VoxelKey free_k;
-    if (!nearestFree(grid, sk, cfg_.start_escape_radius_m, &free_k)) {
+    if (!nearestTraversable(grid, sk, cfg_.start_escape_radius_m, band, &free_k)) {
       res.status = AStarStatus::kStartInCollision;
       return res;
     }
@@ -122,9 +150,9 @@ AStarResult AStarPlanner::plan(const LocalGrid& grid, const Eigen::Vector3d& sta
     escape_point = grid.center(free_k);
     res.start_escaped = true;
   }
-  if (grid.isBlocked(gk, cfg_.unknown_is_free)) {
+  if (!traversable(grid, gk, band)) {
     VoxelKey free_k;
-    if (!nearestFree(grid, gk, cfg_.goal_search_radius_m, &free_k)) {
+    if (!nearestTraversable(grid, gk, cfg_.goal_search_radius_m, band, &free_k)) {
       res.status = AStarStatus::kGoalBlocked;
       return res;
     }
@@ -191,8 +219,12 @@ AStarResult AStarPlanner::plan(const LocalGrid& grid, const Eigen::Vector3d& sta
           const int m = std::abs(dx) + std::abs(dy) + std::abs(dz);
           if (m == 0) continue;
           const VoxelKey nk{k.x + dx, k.y + dy, k.z + dz};
-          if (grid.isBlocked(nk, cfg_.unknown_is_free)) continue;
-          const double ng = g + kStep[m];
+          if (!traversable(grid, nk, band)) continue;
+          const double step = cfg_.unknown_cost_factor > 1.0 &&
+                                      grid.state(nk) == CellState::kUnknown
+                                  ? cfg_.unknown_cost_factor * kStep[m]
+                                  : kStep[m];
+          const double ng = g + step;
           int idx = lookup(nk);
           if (idx < 0) {
             idx = static_cast<int>(nodes.size());
@@ -233,7 +265,7 @@ AStarResult AStarPlanner::plan(const LocalGrid& grid, const Eigen::Vector3d& sta
     }
     while (anchor + 1 < cells.size()) {
       size_t j = anchor + 1;
-      while (j + 1 < cells.size() && lineOfSight(grid, cells[anchor], cells[j + 1])) ++j;
+      while (j + 1 < cells.size() && segmentClear(grid, cells[anchor], cells[j + 1], band)) ++j;
       out.push_back(cells[j]);
       anchor = j;
     }

@@ -284,10 +284,16 @@ bool LocalGrid::isInflated(const VoxelKey& k) const {
   return inWindow(k) && inflation_[index(k)] > 0;
 }
 
-bool LocalGrid::isBlocked(const VoxelKey& k, bool unknown_is_free) const {
+bool LocalGrid::isBlocked(const VoxelKey& k, bool unknown_is_free,
+                          double narrow_clearance_m) const {
   if (!inWindow(k)) return true;
   const size_t idx = index(k);
-  if (inflation_[idx] > 0) return true;
+  if (inflation_[idx] > 0) {
+    if (narrow_clearance_m <= 0.0 || narrow_clearance_m >= cfg_.inflation_radius_m ||
+        occupied_[idx])
+      return true;
+    if (nearestOccupiedDistance(center(k), narrow_clearance_m)) return true;
+  }
   return !unknown_is_free && !observed_[idx];
 }
 

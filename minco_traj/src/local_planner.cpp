@@ -18,6 +18,9 @@ void LocalPlannerConfig::validate() const {
                  50.0);
   requireInRange("local_planner.braking_first_decel_fraction", braking_first_decel_fraction, 0.1,
                  1.0);
+  requireInRange("local_planner.narrow_clearance_m", narrow_clearance_m, 0.0,
+                 corridor.clearance_m);
+  requireInRange("local_planner.narrow_v_max_mps", narrow_v_max_mps, 0.1, optimizer.v_max_mps);
 }
 
 const char* toString(PlanStatus s) {
@@ -38,14 +41,35 @@ const char* toString(PlanStatus s) {
   return "?";
 }
 
-LocalPlanner::LocalPlanner(const LocalPlannerConfig& cfg)
-    : cfg_(cfg),
-      astar_(cfg.astar),
-      corridor_(cfg.corridor),
-      optimizer_(cfg.optimizer),
-      yaw_(cfg.yaw) {
-  cfg_.validate();
+namespace {
+
+AStarConfig narrowAStar(const LocalPlannerConfig& c) {
+  AStarConfig a = c.astar;
+  a.narrow_clearance_m = c.narrow_clearance_m;
+  return a;
 }
+CorridorConfig narrowCorridor(const LocalPlannerConfig& c) {
+  CorridorConfig k = c.corridor;
+  if (c.narrow_clearance_m > 0.0) k.clearance_m = c.narrow_clearance_m;
+  return k;
+}
+TrajOptConfig narrowOptimizer(const LocalPlannerConfig& c) {
+  TrajOptConfig o = c.optimizer;
+  o.v_max_mps = c.narrow_v_max_mps;
+  return o;
+}
+
+}  // namespace
+
+LocalPlanner::LocalPlanner(const LocalPlannerConfig& cfg)
+    : cfg_((cfg.validate(), cfg)),
+      astar_(cfg.astar),
+      astar_narrow_(narrowAStar(cfg)),
+      corridor_(cfg.corridor),
+      corridor_narrow_(narrowCorridor(cfg)),
+      optimizer_(cfg.optimizer),
+      optimizer_narrow_(narrowOptimizer(cfg)),
+      yaw_(cfg.yaw) {}
 
 PlanResult LocalPlanner::fail(PlanStatus s, const std::string& msg, const PlanRequest& req,
                               PlanResult&& partial) const {
@@ -71,37 +95,61 @@ PlanResult LocalPlanner::plan(const LocalGrid& grid, const PlanRequest& req) con
   res.front_end = astar_.plan(grid, req.p_world_m, req.goal_world_m);
   res.goal_adjusted = res.front_end.goal_adjusted;
   res.start_escaped = res.front_end.start_escaped;
+  std::string why;
+  if (res.front_end.ok()) {
+    if (optimizeAlong(grid, req, res.front_end.path_world_m, &res, &why)) return res;
+    // The shortest path may leave in another direction than the vehicle is moving, and a
+    // corridor around it then has no room to brake in (each polytope spans its seed's box plus
+    // a margin): seed the corridor through the braking point first.
+    std::vector<Eigen::Vector3d> braking_path;
+    if (brakingFirstPath(grid, req, &braking_path)) {
+      PlanResult second = res;
+      std::string why_second;
+      if (optimizeAlong(grid, req, braking_path, &second, &why_second)) {
+        second.braked_first = true;
+        return second;
+      }
+      why += "; braking first: " + why_second;
+    }
+  } else {
+    why = std::string("front end: ") + toString(res.front_end.status);
+  }
+  // No way with the full clearance: a narrow passage, slowly, if there is one.
+  if (cfg_.narrow_clearance_m > 0.0) {
+    PlanResult narrow = res;
+    std::string why_narrow;
+    if (planNarrow(grid, req, &narrow, &why_narrow)) return narrow;
+    why += "; narrow: " + why_narrow;
+  }
+  PlanStatus status = PlanStatus::kOptimizationFailed;
   if (!res.front_end.ok()) {
     const bool start_bad = res.front_end.status == AStarStatus::kStartInCollision ||
                            res.front_end.status == AStarStatus::kStartOutside;
-    return fail(start_bad ? PlanStatus::kStartInCollision : PlanStatus::kGoalUnreachable,
-                std::string("front end: ") + toString(res.front_end.status), req, std::move(res));
+    status = start_bad ? PlanStatus::kStartInCollision : PlanStatus::kGoalUnreachable;
+  } else if (!res.corridor.ok()) {
+    status = PlanStatus::kCorridorFailed;
   }
-  std::string why;
-  if (optimizeAlong(grid, req, res.front_end.path_world_m, &res, &why)) return res;
-
-  // The shortest path may leave in another direction than the vehicle is moving, and a corridor
-  // around it then has no room to brake in (each polytope spans its seed's box plus a margin):
-  // seed the corridor through the braking point first.
-  std::vector<Eigen::Vector3d> braking_path;
-  if (brakingFirstPath(grid, req, &braking_path)) {
-    PlanResult second = res;
-    std::string why_second;
-    if (optimizeAlong(grid, req, braking_path, &second, &why_second)) {
-      second.braked_first = true;
-      return second;
-    }
-    why += "; braking first: " + why_second;
-  }
-  const PlanStatus status = res.corridor.ok() ? PlanStatus::kOptimizationFailed
-                                              : PlanStatus::kCorridorFailed;
   return fail(status, why, req, std::move(res));
+}
+
+bool LocalPlanner::planNarrow(const LocalGrid& grid, const PlanRequest& req, PlanResult* res,
+                              std::string* why) const {
+  res->front_end = astar_narrow_.plan(grid, req.p_world_m, req.goal_world_m);
+  if (!res->front_end.ok()) {
+    *why = std::string("front end: ") + toString(res->front_end.status);
+    return false;
+  }
+  res->goal_adjusted = res->front_end.goal_adjusted;
+  res->start_escaped = res->front_end.start_escaped;
+  if (!optimizeAlong(grid, req, res->front_end.path_world_m, res, why, true)) return false;
+  res->narrow = true;
+  return true;
 }
 
 bool LocalPlanner::optimizeAlong(const LocalGrid& grid, const PlanRequest& req,
                                  const std::vector<Eigen::Vector3d>& path, PlanResult* res,
-                                 std::string* why) const {
-  res->corridor = corridor_.build(path, grid);
+                                 std::string* why, bool narrow) const {
+  res->corridor = (narrow ? corridor_narrow_ : corridor_).build(path, grid);
   if (!res->corridor.ok()) {
     *why = std::string("corridor: ") + toString(res->corridor.status);
     return false;
@@ -109,7 +157,8 @@ bool LocalPlanner::optimizeAlong(const LocalGrid& grid, const PlanRequest& req,
   Eigen::Matrix3d head, tail = Eigen::Matrix3d::Zero();
   head << req.p_world_m, req.v_world_mps, req.a_world_mps2;
   tail.col(0) = path.back();
-  res->optimization = optimizer_.optimize(head, tail, res->corridor.polytopes);
+  res->optimization = (narrow ? optimizer_narrow_ : optimizer_).optimize(head, tail,
+                                                                          res->corridor.polytopes);
   if (!res->optimization.ok()) {
     *why = "optimiser: " + res->optimization.message;
     return false;

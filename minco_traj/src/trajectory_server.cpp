@@ -24,6 +24,8 @@ void TrajectoryServerConfig::validate() const {
   requireInRange("trajectory_server.plan_from_future_s", plan_from_future_s, 0.0, 1.0);
   requireInRange("trajectory_server.retry_after_failed_plan_s", retry_after_failed_plan_s, 0.0,
                  replan_period_s);
+  requireInRange("trajectory_server.max_retry_backoff_s", max_retry_backoff_s, 0.0, 60.0);
+  requireInRange("trajectory_server.new_question_distance_m", new_question_distance_m, 0.0, 1e4);
   requireInRange("trajectory_server.max_tracking_error_m", max_tracking_error_m, 0.01, 100.0);
   requireInRange("trajectory_server.recenter_distance_m", recenter_distance_m, 0.0,
                  0.5 * std::min(grid.size_x_m, grid.size_y_m));
@@ -114,6 +116,9 @@ ServerEvent TrajectoryServer::setGoal(const Eigen::Vector3d& goal_world_m,
                " or time";
     return ServerEvent::kRejectedInput;
   }
+  // A goal elsewhere is a new question: the waits for the failed one do not apply to it.
+  if (failed_goal_ && (goal_world_m - *failed_goal_).norm() > cfg_.new_question_distance_m)
+    failed_plans_ = 0;
   goal_ = goal_world_m;
   look_at_ = look_at_world_m;
   new_goal_ = true;
@@ -208,6 +213,16 @@ ServerEvent TrajectoryServer::update(double time_s, const VehicleState& state) {
     reason = "no trajectory";
   }
   if (reason.empty()) return ServerEvent::kNone;
+  // After failed plans, wait before trying again (doubling, up to max_retry_backoff_s), whatever
+  // asks for it, except a predicted collision: a failing search floods the whole window each
+  // time (seen: 80 % of a core in A* behind a door the vehicle could not pass, asked again on
+  // every new goal and every update once the stop had run out).
+  if (failed_plans_ > 0 && !collision_predicted_) {
+    const double backoff =
+        std::min(cfg_.max_retry_backoff_s,
+                 cfg_.retry_after_failed_plan_s * std::pow(2.0, failed_plans_ - 1));
+    if (time_s - last_replan_s_ < backoff - 1e-9) return ServerEvent::kNone;
+  }
   return replan(time_s, state, reason);
 }
 
@@ -248,6 +263,8 @@ ServerEvent TrajectoryServer::replan(double time_s, const VehicleState& state,
 
   PlanResult result = planner_.plan(grid_, req);
   ++replans_;
+  failed_plans_ = result.ok() ? 0 : failed_plans_ + 1;
+  if (!result.ok()) failed_goal_ = *goal_;
   if (result.ok()) {
     install(result.trajectory, start_s);
     stopping_ = false;

@@ -348,5 +348,72 @@ TEST(AStar, NoPathWhenGoalIsEnclosed) {
   EXPECT_EQ(r.status, AStarStatus::kNoPath);
 }
 
+// Seen space in a height band with a wall across it; beyond the band nobody has looked (the
+// LiDAR's blind spots straight below and above the vehicle).
+LocalGrid seenBandWithAWall(double band_lo_z, double band_hi_z) {
+  LocalGridConfig cfg = smallGrid(0.0);
+  cfg.size_z_m = 2.0;
+  LocalGrid g(cfg, Eigen::Vector3d(0, 0, 1.0));
+  for (double x = -1.45; x < 1.5; x += 0.1)
+    for (double y = -1.45; y < 1.5; y += 0.1)
+      for (double z = band_lo_z + 0.05; z < band_hi_z; z += 0.1) {
+        if (std::abs(x - 0.05) < 0.01)
+          g.setOccupied({x, y, z});
+        else
+          g.setFree({x, y, z});
+      }
+  return g;
+}
+
+double minZ(const std::vector<Eigen::Vector3d>& path) {
+  double z = 1e9;
+  for (const auto& p : path) z = std::min(z, p.z());
+  return z;
+}
+
+double maxZ(const std::vector<Eigen::Vector3d>& path) {
+  double z = -1e9;
+  for (const auto& p : path) z = std::max(z, p.z());
+  return z;
+}
+
+TEST(AStar, DoesNotLeaveTheStartAndGoalHeightsThroughUnknownSpace) {
+  AStarConfig c;
+  c.unknown_is_free = true;
+  const auto planWithMargin = [&](const LocalGrid& g, const Eigen::Vector3d& s,
+                                  const Eigen::Vector3d& t, double margin_m) {
+    AStarConfig wide = c;
+    wide.unknown_height_margin_m = margin_m;
+    return AStarPlanner(wide).plan(g, s, t);
+  };
+  {  // the way under the wall is a way toward an unseen floor
+    const LocalGrid g = seenBandWithAWall(0.6, 2.0);
+    const Eigen::Vector3d s(-1.0, 0.0, 1.35), t(1.0, 0.0, 1.35);
+    EXPECT_EQ(AStarPlanner(c).plan(g, s, t).status, AStarStatus::kNoPath);
+    const auto r = planWithMargin(g, s, t, 2.0);  // allowed to dive, it goes under the wall
+    ASSERT_TRUE(r.ok()) << toString(r.status);
+    EXPECT_LT(minZ(r.grid_path_world_m), 0.6);
+  }
+  {  // nor over it, toward an unseen ceiling
+    const LocalGrid g = seenBandWithAWall(0.0, 1.4);
+    const Eigen::Vector3d s(-1.0, 0.0, 0.65), t(1.0, 0.0, 0.65);
+    EXPECT_EQ(AStarPlanner(c).plan(g, s, t).status, AStarStatus::kNoPath);
+    const auto r = planWithMargin(g, s, t, 2.0);
+    ASSERT_TRUE(r.ok()) << toString(r.status);
+    EXPECT_GT(maxZ(r.grid_path_world_m), 1.4);
+  }
+  {  // unknown space between the start's and the goal's heights stays usable (optimistic
+     // planning toward the unseen, up a shaft or down a slope)
+    LocalGridConfig cfg = smallGrid(0.0);
+    cfg.size_z_m = 2.0;
+    const LocalGrid open(cfg, Eigen::Vector3d(0, 0, 1.0));
+    const Eigen::Vector3d s(-1.0, 0.0, 0.25), t(1.0, 0.0, 1.75);
+    const auto r = AStarPlanner(c).plan(open, s, t);
+    ASSERT_TRUE(r.ok()) << toString(r.status);
+    EXPECT_GE(minZ(r.grid_path_world_m), s.z() - 0.5 - 0.05);
+    EXPECT_LE(maxZ(r.grid_path_world_m), t.z() + 0.5 + 0.05);
+  }
+}
+
 }  // namespace
 }  // namespace efs::traj

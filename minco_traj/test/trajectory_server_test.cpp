@@ -179,9 +179,8 @@ TEST(TrajectoryServer, GoalInsideAWallIsReachedAtTheNearestFreeCell) {
   EXPECT_LT(LocalPlanner::firstCollisionTime(*server.current(), server.grid(), 0.0, 100.0), 0.0);
 }
 
-TEST(TrajectoryServer, AnEnclosedGoalKeepsTheClearCourseAndBrakesOnlyWhenItIsThreatened) {
-  TrajectoryServer server(smallConfig());
-  LocalGrid& grid = server.mutableGrid();
+// A closed box of walls around (4, 0, 1) in an otherwise free, known grid.
+void encloseFourZeroOne(LocalGrid& grid) {
   grid.recenter({0, 0, 1});
   grid.setAllFree();
   // A closed box of walls around (4, 0, 1).
@@ -196,6 +195,40 @@ TEST(TrajectoryServer, AnEnclosedGoalKeepsTheClearCourseAndBrakesOnlyWhenItIsThr
       grid.setOccupied({x, y, -0.45});
       grid.setOccupied({x, y, 2.45});
     }
+}
+
+// Hovering with a goal nobody can reach: every plan floods the window. The retries wait longer
+// and longer (0.2, 0.4, 0.8, 1.6, 2 s ...) instead of one every 0.2 s; a goal elsewhere is
+// planned at once.
+TEST(TrajectoryServer, RetriesOfAnUnreachableGoalBackOff) {
+  auto attempts = [](double max_backoff_s) {
+    TrajectoryServerConfig cfg = smallConfig();
+    cfg.max_retry_backoff_s = max_backoff_s;
+    cfg.planner.astar.max_expansions = 20000;  // fail fast: the count of attempts is the point
+    TrajectoryServer server(cfg);
+    encloseFourZeroOne(server.mutableGrid());
+    server.setGoal({0, 0, 1}, std::nullopt, 0.0);
+    EXPECT_EQ(server.update(0.0, at({0, 0, 1})), ServerEvent::kReplanned);
+    for (double t = 0.0; t < 1.0; t += 0.01) server.update(t, fromReference(server.sample(t)));
+    server.setGoal({4, 0, 1}, std::nullopt, 1.0);
+    const int before = server.replanCount();
+    for (double t = 1.0; t < 9.0; t += 0.01) server.update(t, fromReference(server.sample(t)));
+    const int tried = server.replanCount() - before;
+    // Elsewhere, reachable: planned on the next update.
+    server.setGoal({-3, 2, 1}, std::nullopt, 9.0);
+    EXPECT_EQ(server.update(9.0, fromReference(server.sample(9.0))), ServerEvent::kReplanned);
+    return tried;
+  };
+  const int with_backoff = attempts(2.0);
+  EXPECT_LE(with_backoff, 8);
+  EXPECT_GE(with_backoff, 4);
+  // Contrast: no backoff beyond the first wait.
+  EXPECT_GE(attempts(0.2), 30);
+}
+
+TEST(TrajectoryServer, AnEnclosedGoalKeepsTheClearCourseAndBrakesOnlyWhenItIsThreatened) {
+  TrajectoryServer server(smallConfig());
+  encloseFourZeroOne(server.mutableGrid());
   server.setGoal({0, 0, 1}, std::nullopt, 0.0);
   ASSERT_EQ(server.update(0.0, at({-2, 0, 1})), ServerEvent::kReplanned);
   for (double t = 0.0; t < 0.5; t += 0.01) server.update(t, fromReference(server.sample(t)));

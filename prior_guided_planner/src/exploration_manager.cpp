@@ -19,8 +19,12 @@ void ExplorationManagerConfig::validate() const {
   fov.validate();
   path.validate();
   planner.validate();
+  openings.validate();
   requireInRange("replan_period_s", replan_period_s, 0.0, 3600.0);
   requireInRange("target_reached_m", target_reached_m, 1e-3, 1e3);
+  requireInRange("target_progress_m", target_progress_m, 0.0, 1e3);
+  requireInRange("target_progress_timeout_s", target_progress_timeout_s, 0.1, 1e6);
+  requireInRange("unreachable_retry_s", unreachable_retry_s, 0.0, 1e6);
   requireInRange("max_goal_distance_m", max_goal_distance_m, 1.0, 1e4);
   requireInRange("max_goal_climb_m", max_goal_climb_m, 0.5, 1e4);
   if (bounds_world_m) {
@@ -138,6 +142,8 @@ bool ExplorationManager::replanDue(double time_s, const RobotPose& robot) const 
   if (target_.goal_world_m != target_.viewpoint_world_m &&
       (robot.position_world_m - target_.goal_world_m).norm() <= 0.5 * config_.max_goal_distance_m)
     return true;
+  // An opening stays the target until the next periodic plan looks again.
+  if (opening_look_at_.count(*target_.goal_viewpoint_id)) return false;
   for (const auto& [cluster, vps] : viewpoint_manager_.byCluster())
     for (const Viewpoint& v : vps)
       if (v.id == *target_.goal_viewpoint_id) return false;
@@ -147,19 +153,47 @@ bool ExplorationManager::replanDue(double time_s, const RobotPose& robot) const 
 void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   // A target the robot reached is not planned for again.
   if (target_.has_goal && target_.goal_viewpoint_id &&
-      (robot.position_world_m - target_.viewpoint_world_m).norm() <= config_.target_reached_m)
-    reached_viewpoint_ids_.insert(*target_.goal_viewpoint_id);
+      (robot.position_world_m - target_.viewpoint_world_m).norm() <= config_.target_reached_m) {
+    if (opening_look_at_.count(*target_.goal_viewpoint_id))
+      reached_opening_ids_.insert(*target_.goal_viewpoint_id);
+    else
+      reached_viewpoint_ids_.insert(*target_.goal_viewpoint_id);
+  }
 
+  for (auto it = set_aside_until_s_.begin(); it != set_aside_until_s_.end();)
+    it = it->second <= time_s ? set_aside_until_s_.erase(it) : std::next(it);
   std::map<int, Eigen::Vector3d> centroid;
   for (const auto& [id, c] : clusters_.clusters()) centroid[id] = c.centroid_world_m;
   std::vector<PlanViewpoint> vps;
   std::vector<int> vp_cluster;
   std::set<int> alive;
+  int set_aside = 0;
   for (const Viewpoint& v : viewpoint_manager_.all()) {
     alive.insert(v.id);
     if (reached_viewpoint_ids_.count(v.id)) continue;
+    if (set_aside_until_s_.count(v.id)) {
+      ++set_aside;
+      continue;
+    }
     vps.push_back({v.id, v.position_world_m, v.yaw_rad});
     vp_cluster.push_back(v.cluster_id);
+  }
+  // No surface viewpoint left: the ways on that the surface frontiers cannot see (openings.h).
+  opening_look_at_.clear();
+  if (vps.empty() && config_.use_openings) {
+    for (const Opening& o :
+         findOpenings(occupancy_, robot.position_world_m, config_.bounds_world_m, config_.openings)) {
+      alive.insert(o.id);
+      if (reached_opening_ids_.count(o.id)) continue;
+      if (set_aside_until_s_.count(o.id)) {
+        ++set_aside;
+        continue;
+      }
+      vps.push_back({o.id, o.viewpoint_world_m, o.yaw_rad});
+      vp_cluster.push_back(-1);
+      opening_look_at_[o.id] =
+          o.viewpoint_world_m + 3.0 * Eigen::Vector3d(std::cos(o.yaw_rad), std::sin(o.yaw_rad), 0.0);
+    }
   }
   for (const PlanViewpoint& old : viewpoints_)
     if (!alive.count(old.id)) path_cache_.forget(static_cast<uint64_t>(old.id));
@@ -201,6 +235,13 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   target_.goal_viewpoint_id.reset();
   switch (plan.status) {
     case PlanningStatus::kNoViewpoints:
+      if (set_aside > 0) {
+        target_.state = ExplorationState::kStuck;
+        plan_message_ = std::to_string(set_aside) +
+                        " viewpoint(s) remain, all set aside: the robot made no progress "
+                        "toward them";
+        return;
+      }
       target_.state = ExplorationState::kFinished;
       plan_message_ = "no viewpoint remains: exploration finished";
       return;
@@ -228,7 +269,10 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   target_.goal_yaw_rad = goal.yaw_rad;
   target_.goal_viewpoint_id = goal.id;
   const auto c = centroid.find(viewpoint_cluster_[first]);
-  target_.look_at_world_m = c != centroid.end() ? c->second : goal.position_world_m;
+  const auto o = opening_look_at_.find(goal.id);
+  target_.look_at_world_m = c != centroid.end()           ? c->second
+                            : o != opening_look_at_.end() ? o->second
+                                                          : goal.position_world_m;
   // In transit the sensor looks where the vehicle goes: the Mid-360 sees little below the
   // horizon behind it, and the local planner's map of a passage flown before is forgotten (seen:
   // a cave floor hit flying back down a sloping passage with the sensor facing the far target).
@@ -236,11 +280,30 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
     target_.look_at_world_m = target_.goal_world_m;
   std::ostringstream os;
   os << "exploring (" << toString(plan.mode_used) << "), " << viewpoints_.size()
-     << " viewpoint(s), tour of " << plan.tour.viewpoints.size();
+     << (opening_look_at_.empty() ? " viewpoint(s)" : " opening(s)") << ", tour of "
+     << plan.tour.viewpoints.size();
   if (target_.goal_world_m != target_.viewpoint_world_m) os << ", staged goal on the way";
   if (!plan.tour.unreachable_viewpoints.empty())
     os << ", " << plan.tour.unreachable_viewpoints.size() << " unreachable";
+  if (set_aside > 0) os << ", " << set_aside << " set aside (no progress)";
   plan_message_ = os.str();
+  const double length = robot_len_[first];
+  if (!progress_ || progress_->viewpoint_id != goal.id) {
+    progress_ = Progress{goal.id, length, time_s};
+  } else if (length < progress_->best_length_m - config_.target_progress_m) {
+    progress_->best_length_m = length;
+    progress_->since_s = time_s;
+  }
+}
+
+bool ExplorationManager::checkProgress(double time_s) {
+  if (!target_.has_goal || !target_.goal_viewpoint_id || !progress_ ||
+      progress_->viewpoint_id != *target_.goal_viewpoint_id)
+    return true;
+  if (time_s - progress_->since_s < config_.target_progress_timeout_s) return true;
+  set_aside_until_s_[progress_->viewpoint_id] = time_s + config_.unreachable_retry_s;
+  progress_.reset();
+  return false;
 }
 
 bool ExplorationManager::withinGoalReach(const Eigen::Vector3d& from,
@@ -311,7 +374,7 @@ const ExplorationTarget& ExplorationManager::update(double time_s, const RobotPo
     return target_;
   }
   refreshMapProducts();
-  if (replanDue(time_s, robot)) replan(time_s, robot);
+  if (!checkProgress(time_s) || replanDue(time_s, robot)) replan(time_s, robot);
   target_.message = plan_message_;
   if (!pending_message_.empty()) {
     target_.message += "; " + pending_message_;

@@ -160,11 +160,20 @@ OccupancyState OccupancyMap::state(const VoxelKey& k) const {
 }
 
 bool OccupancyMap::isSafe(const Eigen::Vector3d& p, double radius_m, bool unknown_is_safe) const {
-  const double res = config_.resolution_m;
-  BlockCursor cur(*this);
-  const OccupancyState c = classify(cur.value(key(p)));
+  const OccupancyState c = stateAt(p);
   if (c == OccupancyState::kOccupied) return false;
   if (c == OccupancyState::kUnknown && !unknown_is_safe) return false;
+  return allCellsInBall(p, radius_m, [](OccupancyState s) { return s != OccupancyState::kOccupied; });
+}
+
+bool OccupancyMap::isKnownFree(const Eigen::Vector3d& p, double radius_m) const {
+  return allCellsInBall(p, radius_m, [](OccupancyState s) { return s == OccupancyState::kFree; });
+}
+
+bool OccupancyMap::allCellsInBall(const Eigen::Vector3d& p, double radius_m,
+                                  bool (*ok)(OccupancyState)) const {
+  const double res = config_.resolution_m;
+  BlockCursor cur(*this);
   const VoxelKey lo = key(p - Eigen::Vector3d::Constant(radius_m));
   const VoxelKey hi = key(p + Eigen::Vector3d::Constant(radius_m));
   const double r2 = radius_m * radius_m;
@@ -177,7 +186,7 @@ bool OccupancyMap::isSafe(const Eigen::Vector3d& p, double radius_m, bool unknow
       for (int32_t x = lo.x; x <= hi.x; ++x) {
         const double dx = std::max({x * res - p.x(), 0.0, p.x() - (x + 1) * res});
         if (dx * dx + dyz2 > r2) continue;  // the cell's box is outside the ball
-        if (classify(cur.value({x, y, z})) == OccupancyState::kOccupied) return false;
+        if (!ok(classify(cur.value({x, y, z})))) return false;
       }
     }
   }

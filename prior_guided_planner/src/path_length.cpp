@@ -15,6 +15,8 @@ namespace efs::planner {
 void PathSearchConfig::validate() const {
   requireInRange("path.search_resolution_m", search_resolution_m, 0.05, 10.0);
   requireInRange("path.vehicle_radius_m", vehicle_radius_m, 0.0, 10.0);
+  requireInRange("path.narrow_radius_m", narrow_radius_m, 0.0, vehicle_radius_m);
+  requireInRange("path.narrow_cost_factor", narrow_cost_factor, 1.0, 100.0);
   requireInRange("path.max_expansions", max_expansions, 1, 100000000);
   requireInRange("path.endpoint_tolerance_m", endpoint_tolerance_m, 0.0, 10.0);
 }
@@ -26,7 +28,13 @@ constexpr int kChunkSize = 1 << kChunkBits;
 constexpr int kChunkNodes = kChunkSize * kChunkSize * kChunkSize;
 constexpr uint8_t kNoParent = 255;
 
-enum : uint8_t { kUntested = 0, kTraversable = 1, kBlocked = 2 };
+// A narrow node stores kNarrow + the index of its sub-point (0..7).
+enum : uint8_t { kUntested = 0, kTraversable = 1, kBlocked = 2, kNarrow = 8 };
+
+/// Sub-point i of a node: the centre of one octant of its cube.
+Eigen::Vector3d subOffset(int i, double s) {
+  return 0.25 * s * Eigen::Vector3d((i & 1) ? 1.0 : -1.0, (i & 2) ? 1.0 : -1.0, (i & 4) ? 1.0 : -1.0);
+}
 
 struct Offsets {
   VoxelKey d[26];
@@ -70,6 +78,10 @@ double pathLength(const std::vector<Eigen::Vector3d>& path) {
 // epoch per chunk and are reset lazily when a chunk is first touched in a newer epoch.
 struct PathSearch::Chunk {
   uint8_t trav[kChunkNodes] = {};
+  /// Per node, edges to its 26 neighbours known usable (bit d) / known unusable (bit d of the
+  /// second word); only edges that touch a narrow node are ever tested. Reset with trav.
+  uint32_t edge_ok[kChunkNodes] = {};
+  uint32_t edge_bad[kChunkNodes] = {};
   uint32_t label[kChunkNodes];
   double g[kChunkNodes];
   uint8_t parent[kChunkNodes];
@@ -104,11 +116,46 @@ inline bool PathSearch::traversable(const VoxelKey& k) { return traversable(slot
 
 inline bool PathSearch::traversable(const Slot& s, const VoxelKey& k) {
   uint8_t& t = s.chunk->trav[s.index];
-  if (t == kUntested)
-    t = occ_.isSafe(center(k), config_.vehicle_radius_m, config_.unknown_is_traversable)
-            ? kTraversable
-            : kBlocked;
-  return t == kTraversable;
+  if (t == kUntested) {
+    const bool unk = config_.unknown_is_traversable;
+    t = kBlocked;
+    const Eigen::Vector3d c = center(k);
+    if (occ_.isSafe(c, config_.vehicle_radius_m, unk)) {
+      t = kTraversable;
+    } else if (config_.narrow_radius_m > 0.0) {
+      for (int i = 0; i < 8 && t == kBlocked; ++i)
+        if (occ_.isSafe(c + subOffset(i, config_.search_resolution_m), config_.narrow_radius_m,
+                        unk))
+          t = static_cast<uint8_t>(kNarrow + i);
+    }
+  }
+  return t == kTraversable || t >= kNarrow;
+}
+
+Eigen::Vector3d PathSearch::nodePosition(const Slot& s, const VoxelKey& k) const {
+  const uint8_t t = s.chunk->trav[s.index];
+  const Eigen::Vector3d c = center(k);
+  return t >= kNarrow ? Eigen::Vector3d(c + subOffset(t - kNarrow, config_.search_resolution_m))
+                      : c;
+}
+
+std::optional<double> PathSearch::edgeCost(const Slot& sa, const VoxelKey& a, const Slot& sb,
+                                           const VoxelKey& b, int direction) const {
+  const bool narrow = sa.chunk->trav[sa.index] >= kNarrow || sb.chunk->trav[sb.index] >= kNarrow;
+  if (!narrow) return config_.search_resolution_m * offsets26().length[direction];
+  const Eigen::Vector3d pa = nodePosition(sa, a), pb = nodePosition(sb, b);
+  const uint32_t bit = 1u << direction;
+  uint32_t& ok = sa.chunk->edge_ok[sa.index];
+  uint32_t& bad = sa.chunk->edge_bad[sa.index];
+  if (bad & bit) return std::nullopt;
+  if (!(ok & bit)) {
+    if (!segmentSafe(pa, pb, config_.narrow_radius_m, config_.unknown_is_traversable)) {
+      bad |= bit;
+      return std::nullopt;
+    }
+    ok |= bit;
+  }
+  return config_.narrow_cost_factor * (pb - pa).norm();
 }
 
 void PathSearch::clearMemo() {
@@ -143,7 +190,9 @@ void PathSearch::syncWithLastScan() {
   // radius (plus a cell for rounding) of a changed block's box.
   const double s = config_.search_resolution_m;
   const double block_m = occ_.resolution() * OccupancyMap::kBlockSize;
-  const double grow = config_.vehicle_radius_m + occ_.resolution();
+  // A node's memoised edges reach its neighbours' sub-points: a diagonal step plus a quarter.
+  const double edge_reach = config_.narrow_radius_m + 1.25 * std::sqrt(3.0) * s;
+  const double grow = std::max(config_.vehicle_radius_m, edge_reach) + occ_.resolution();
   for (const VoxelKey& b : occ_.lastChangedBlocks()) {
     const Eigen::Vector3d lo =
         Eigen::Vector3d(b.x, b.y, b.z) * block_m - Eigen::Vector3d::Constant(grow);
@@ -158,9 +207,9 @@ void PathSearch::syncWithLastScan() {
           auto it = chunks_.find(ck);
           if (it == chunks_.end()) continue;
           const int m = kChunkSize - 1;
-          it->second
-              ->trav[(k.x & m) | ((k.y & m) << kChunkBits) | ((k.z & m) << (2 * kChunkBits))] =
-              kUntested;
+          const int i = (k.x & m) | ((k.y & m) << kChunkBits) | ((k.z & m) << (2 * kChunkBits));
+          it->second->trav[i] = kUntested;
+          it->second->edge_ok[i] = it->second->edge_bad[i] = 0;
         }
   }
 }
@@ -185,11 +234,14 @@ uint32_t PathSearch::component(const VoxelKey& k) {
   while (!stack.empty()) {
     const VoxelKey c = stack.back();
     stack.pop_back();
-    for (const VoxelKey& d : o.d) {
-      const VoxelKey n{c.x + d.x, c.y + d.y, c.z + d.z};
-      if (!traversable(n)) continue;
+    const Slot sc = slot(c);
+    for (int d = 0; d < 26; ++d) {
+      const VoxelKey n{c.x + o.d[d].x, c.y + o.d[d].y, c.z + o.d[d].z};
+      const Slot sn = slot(n);
+      if (!traversable(sn, n)) continue;
       uint32_t& l = labelRef(n);
       if (l == label) continue;
+      if (!edgeCost(sc, c, sn, n, d)) continue;
       l = label;
       stack.push_back(n);
     }
@@ -235,9 +287,11 @@ PathSearch::Joins PathSearch::attach(const Eigen::Vector3d& p) {
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
         const VoxelKey k{k0.x + dx, k0.y + dy, k0.z + dz};
-        if (!traversable(k)) continue;
-        if (!segmentSafe(p, center(k), 0.0, true)) continue;
-        out.emplace_back(k, (center(k) - p).norm());
+        const Slot sk = slot(k);
+        if (!traversable(sk, k)) continue;
+        const Eigen::Vector3d q = nodePosition(sk, k);
+        if (!segmentSafe(p, q, 0.0, true)) continue;
+        out.emplace_back(k, (q - p).norm());
       }
   return out;
 }
@@ -272,8 +326,8 @@ std::vector<Eigen::Vector3d> PathSearch::tracePath(const Eigen::Vector3d& a, con
   const Offsets& o = offsets26();
   std::vector<Eigen::Vector3d> path{b};
   for (VoxelKey k = last;;) {
-    path.push_back(center(k));
     const Slot s = slot(k);
+    path.push_back(nodePosition(s, k));
     const uint8_t p = s.chunk->parent[s.index];
     if (p == kNoParent) break;
     k = {k.x - o.d[p].x, k.y - o.d[p].y, k.z - o.d[p].z};
@@ -313,7 +367,6 @@ PathSearch::SearchStats PathSearch::bestFirst(const Joins& starts, Heuristic&& h
     open.push({c + h(k), k});
   }
   const Offsets& o = offsets26();
-  const double s = config_.search_resolution_m;
   while (!open.empty()) {
     const QItem top = open.top();
     open.pop();
@@ -331,9 +384,12 @@ PathSearch::SearchStats PathSearch::bestFirst(const Joins& starts, Heuristic&& h
     for (int d = 0; d < 26; ++d) {
       const VoxelKey m{k.x + o.d[d].x, k.y + o.d[d].y, k.z + o.d[d].z};
       const Slot sm = scratch(m);
-      if (!traversable(sm, m)) continue;
-      const double gm = g + s * o.length[d];
-      if (sm.chunk->closed[sm.index] || sm.chunk->g[sm.index] <= gm) continue;
+      if (!traversable(sm, m) || sm.chunk->closed[sm.index]) continue;
+      if (wide_only_ && sm.chunk->trav[sm.index] != kTraversable) continue;
+      const std::optional<double> cost = edgeCost(sl, k, sm, m, d);
+      if (!cost) continue;
+      const double gm = g + *cost;
+      if (sm.chunk->g[sm.index] <= gm) continue;
       sm.chunk->g[sm.index] = gm;
       sm.chunk->parent[sm.index] = static_cast<uint8_t>(d);
       open.push({gm + h(m), m});
@@ -369,37 +425,57 @@ PathSearchResult PathSearch::search(const Eigen::Vector3d& a, const Eigen::Vecto
   const Joins all_goals = attach(b);
   std::vector<uint32_t> goal_labels;
   for (const auto& j : all_goals) goal_labels.push_back(component(j.first));
-  const Joins starts = keepLabelled(attach(a), goal_labels, label);
-  if (starts.empty()) return res;
+  const Joins all_starts = keepLabelled(attach(a), goal_labels, label);
+  if (all_starts.empty()) return res;
   std::vector<uint32_t> start_labels;
-  for (const auto& j : starts) start_labels.push_back(component(j.first));
-  const Joins goals = keepLabelled(all_goals, start_labels, label);
+  for (const auto& j : all_starts) start_labels.push_back(component(j.first));
+  const Joins all_goals_reachable = keepLabelled(all_goals, start_labels, label);
 
-  // f = g + h, where a goal node's h is its exact remaining cost; others use the straight line.
-  auto goalCost = [&](const VoxelKey& k) {
-    double best = std::numeric_limits<double>::infinity();
-    for (const auto& [gk, c] : goals)
-      if (gk == k) best = std::min(best, c);
-    return best;
-  };
-  auto h = [&](const VoxelKey& k) { return std::min((center(k) - b).norm(), goalCost(k)); };
-  std::optional<VoxelKey> reached;
-  double best_total = std::numeric_limits<double>::infinity();
-  const SearchStats st = bestFirst(
-      starts, h, [&](double f) { return f >= best_total; },
-      [&](const VoxelKey& k, double g) {
-        const double gc = goalCost(k);
-        if (g + gc < best_total) {
-          best_total = g + gc;
-          reached = k;
-        }
-      });
-  res.expansions = st.expansions;
-  res.budget_exhausted = st.exhausted;
-  if (!reached) return res;
-  res.waypoints_world_m = tracePath(a, *reached, b);
-  res.length_m = pathLength(res.waypoints_world_m);
+  // Wide nodes first; narrow ones only when that finds nothing (a door): in open space the
+  // shell of narrow nodes along the walls would only cost expansions.
+  for (const bool wide_only : {true, false}) {
+    if (!wide_only && config_.narrow_radius_m <= 0.0) break;
+    const Joins starts = wide_only ? wideJoins(all_starts) : all_starts;
+    const Joins goals = wide_only ? wideJoins(all_goals_reachable) : all_goals_reachable;
+    if (starts.empty() || goals.empty()) continue;
+    // f = g + h, where a goal node's h is its exact remaining cost; others the straight line.
+    auto goalCost = [&](const VoxelKey& k) {
+      double best = std::numeric_limits<double>::infinity();
+      for (const auto& [gk, c] : goals)
+        if (gk == k) best = std::min(best, c);
+      return best;
+    };
+    auto h = [&](const VoxelKey& k) {
+      return std::min((nodePosition(slot(k), k) - b).norm(), goalCost(k));
+    };
+    std::optional<VoxelKey> reached;
+    double best_total = std::numeric_limits<double>::infinity();
+    wide_only_ = wide_only;
+    const SearchStats st = bestFirst(
+        starts, h, [&](double f) { return f >= best_total; },
+        [&](const VoxelKey& k, double g) {
+          const double gc = goalCost(k);
+          if (g + gc < best_total) {
+            best_total = g + gc;
+            reached = k;
+          }
+        });
+    wide_only_ = false;
+    res.expansions += st.expansions;
+    res.budget_exhausted = st.exhausted;
+    if (!reached) continue;
+    res.waypoints_world_m = tracePath(a, *reached, b);
+    res.length_m = pathLength(res.waypoints_world_m);
+    return res;
+  }
   return res;
+}
+
+PathSearch::Joins PathSearch::wideJoins(const Joins& joins) {
+  Joins out;
+  for (const auto& j : joins)
+    if (slot(j.first).chunk->trav[slot(j.first).index] == kTraversable) out.push_back(j);
+  return out;
 }
 
 std::vector<PathSearchResult> PathSearch::searchFrom(const Eigen::Vector3d& a,
@@ -427,44 +503,61 @@ std::vector<PathSearchResult> PathSearch::searchFrom(const Eigen::Vector3d& a,
       if (std::find(start_labels.begin(), start_labels.end(), component(k)) != start_labels.end())
         goal_joins.push_back({k, {static_cast<int>(i), c}});
   }
-  if (goal_joins.empty()) return out;
   std::sort(goal_joins.begin(), goal_joins.end(),
             [](const auto& x, const auto& y) { return keyLess(x.first, y.first); });
 
   // Dijkstra from the start nodes until every goal node is settled (or the budget ends); each
-  // target keeps its best join node.
-  size_t goals_left = 0;
-  for (size_t i = 0; i < goal_joins.size(); ++i)
-    goals_left += i == 0 || goal_joins[i].first != goal_joins[i - 1].first;
-  std::vector<double> best(targets.size(), std::numeric_limits<double>::infinity());
-  std::vector<std::optional<VoxelKey>> best_node(targets.size());
-  const SearchStats st = bestFirst(
-      starts, [](const VoxelKey&) { return 0.0; }, [&](double) { return goals_left == 0; },
-      [&](const VoxelKey& k, double g) {
-        auto lo = std::lower_bound(
-            goal_joins.begin(), goal_joins.end(), k,
-            [&](const auto& gj, const VoxelKey& key) { return keyLess(gj.first, key); });
-        if (lo == goal_joins.end() || lo->first != k) return;
-        --goals_left;
-        for (; lo != goal_joins.end() && lo->first == k; ++lo) {
-          const auto [t, c] = lo->second;
-          if (g + c < best[t]) {
-            best[t] = g + c;
-            best_node[t] = k;
-          }
-        }
-      });
-  const int expanded = st.expansions;
-  const bool exhausted = st.exhausted;
-  for (size_t t = 0; t < targets.size(); ++t) {
-    if (out[t].straight) continue;
-    out[t].expansions = expanded;
-    if (!best_node[t]) {
-      out[t].budget_exhausted = exhausted;
-      continue;
+  // target keeps its best join node. Over wide nodes first; the targets that stay unreached get
+  // a second Dijkstra that may cross narrow nodes (doors), as search() does.
+  std::vector<bool> pending(targets.size(), false);
+  for (const auto& gj : goal_joins) pending[gj.second.first] = true;
+  for (const bool wide_only : {true, false}) {
+    if (!wide_only && config_.narrow_radius_m <= 0.0) break;
+    std::vector<std::pair<VoxelKey, std::pair<int, double>>> goals;
+    for (const auto& gj : goal_joins) {
+      if (!pending[gj.second.first]) continue;
+      const Slot sg = slot(gj.first);
+      if (wide_only && sg.chunk->trav[sg.index] != kTraversable) continue;
+      goals.push_back(gj);
     }
-    out[t].waypoints_world_m = tracePath(a, *best_node[t], targets[t]);
-    out[t].length_m = pathLength(out[t].waypoints_world_m);
+    const Joins phase_starts = wide_only ? wideJoins(starts) : starts;
+    if (goals.empty() || phase_starts.empty()) continue;
+    size_t goals_left = 0;
+    for (size_t i = 0; i < goals.size(); ++i)
+      goals_left += i == 0 || goals[i].first != goals[i - 1].first;
+    std::vector<double> best(targets.size(), std::numeric_limits<double>::infinity());
+    std::vector<std::optional<VoxelKey>> best_node(targets.size());
+    wide_only_ = wide_only;
+    const SearchStats st = bestFirst(
+        phase_starts, [](const VoxelKey&) { return 0.0; },
+        [&](double) { return goals_left == 0; },
+        [&](const VoxelKey& k, double g) {
+          auto lo = std::lower_bound(
+              goals.begin(), goals.end(), k,
+              [&](const auto& gj, const VoxelKey& key) { return keyLess(gj.first, key); });
+          if (lo == goals.end() || lo->first != k) return;
+          --goals_left;
+          for (; lo != goals.end() && lo->first == k; ++lo) {
+            const auto [t, c] = lo->second;
+            if (g + c < best[t]) {
+              best[t] = g + c;
+              best_node[t] = k;
+            }
+          }
+        });
+    wide_only_ = false;
+    for (size_t t = 0; t < targets.size(); ++t) {
+      if (!pending[t]) continue;
+      out[t].expansions += st.expansions;
+      if (!best_node[t]) {
+        out[t].budget_exhausted = st.exhausted;
+        continue;
+      }
+      // Traced now: the next phase's search reuses the scratch that holds the parents.
+      out[t].waypoints_world_m = tracePath(a, *best_node[t], targets[t]);
+      out[t].length_m = pathLength(out[t].waypoints_world_m);
+      pending[t] = false;
+    }
   }
   return out;
 }

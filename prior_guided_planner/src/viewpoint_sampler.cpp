@@ -167,7 +167,7 @@ std::vector<Viewpoint> ViewpointSampler::sample(const FrontierCluster& cluster, 
     // (Ties therefore go to the candidate with the larger bound, then the generation order.)
     if (kept.size() >= keep && std::lround(c.bound * scale) <= kept.back().second.visible_cells)
       break;
-    if (!occ.isSafe(c.p, config_.clearance_m, !config_.require_known_free)) continue;
+    if (!viewpointSafe(occ, c.p)) continue;
     double yaw = 0.0;
     const int seen = scoreAt(c.p, cells, occ, &yaw);
     if (seen < config_.min_visible_cells) continue;
@@ -222,8 +222,7 @@ ViewpointUpdateStats ViewpointManager::update(const FrontierClusterer& clusterer
     if (it == by_cluster_.end()) continue;
     bool ok = true;
     for (const Viewpoint& v : it->second)
-      ok = ok && occ.isSafe(v.position_world_m, sampler_.config().clearance_m,
-                            !sampler_.config().require_known_free);
+      ok = ok && sampler_.viewpointSafe(occ, v.position_world_m);
     if (!ok) {
       resample(c, occ, res);
       ++st.clusters_rechecked;

@@ -92,6 +92,62 @@ TEST(ExplorationManager, NoReplanBeforeThePeriodUnlessTheTargetIsReached) {
   }
 }
 
+// A robot that makes no progress toward its target (the local planner found no way there):
+// the target is set aside, the next one gets its turn, and when none is left the manager says
+// it is stuck instead of hovering for ever; set-aside targets come back after the retry time.
+TEST(ExplorationManager, TargetsWithoutProgressAreSetAsideAndComeBack) {
+  const Scene room = corridorRoom();
+  ExplorationManagerConfig c;
+  c.target_progress_timeout_s = 10.0;
+  c.unreachable_retry_s = 5000.0;
+  ExplorationManager m(c, std::nullopt);
+  const Eigen::Vector3d start(2.0, 0.1, 1.6);
+  scanFrom(m, room, start);
+  ASSERT_EQ(m.update(0.0, at(start)).state, ExplorationState::kExploring);
+  const int first = *m.target().goal_viewpoint_id;
+  std::vector<std::pair<double, int>> changes;  // (time, new target id)
+  double t = 0.0;
+  int last = first;
+  while (t < 4000.0 && m.target().state == ExplorationState::kExploring) {
+    t += 0.5;
+    m.update(t, at(start));
+    if (m.target().goal_viewpoint_id && *m.target().goal_viewpoint_id != last) {
+      last = *m.target().goal_viewpoint_id;
+      changes.emplace_back(t, last);
+    }
+  }
+  ASSERT_FALSE(changes.empty());
+  EXPECT_GE(changes.front().first, 10.0);  // held for the whole timeout ...
+  EXPECT_LE(changes.front().first, 11.5);  // ... and not longer
+  std::set<int> ids{first};
+  for (const auto& ch : changes) EXPECT_TRUE(ids.insert(ch.second).second) << "again: " << ch.second;
+  ASSERT_EQ(m.target().state, ExplorationState::kStuck) << m.target().message;
+  EXPECT_FALSE(m.target().has_goal);
+  EXPECT_NE(m.target().message.find("set aside"), std::string::npos) << m.target().message;
+  // After the retry time they are planned for again.
+  m.update(t + c.unreachable_retry_s + 1.0, at(start));
+  EXPECT_EQ(m.target().state, ExplorationState::kExploring) << m.target().message;
+  EXPECT_TRUE(m.target().has_goal);
+
+  // Progress keeps a target: moving toward it (0.4 m/s) never sets it aside.
+  c.replan_period_s = 0.5;
+  c.target_progress_timeout_s = 2.0;
+  ExplorationManager moving(c, std::nullopt);
+  scanFrom(moving, room, start);
+  moving.update(0.0, at(start));
+  const Eigen::Vector3d vp = moving.target().viewpoint_world_m;
+  EXPECT_EQ(moving.target().state, ExplorationState::kExploring);
+  const int steps = static_cast<int>(std::floor(((vp - start).norm() - 1.2) / 0.04));
+  ASSERT_GT(steps * 0.1, c.target_progress_timeout_s);
+  for (int i = 1; i <= steps; ++i) {
+    const Eigen::Vector3d p = start + (vp - start).normalized() * (0.04 * i);
+    moving.update(i * 0.1, at(p));
+    EXPECT_NE(moving.target().message.find("exploring"), std::string::npos);
+    EXPECT_EQ(moving.target().message.find("set aside"), std::string::npos)
+        << "at " << i << " s: " << moving.target().message;
+  }
+}
+
 // A viewpoint beyond max_goal_distance_m reaches the local planner in stages along its path.
 TEST(ExplorationManager, AFarViewpointIsHandedOnInStages) {
   const Scene room = corridorRoom();
@@ -291,6 +347,12 @@ TEST(ExplorationManager, ConfigErrorsNameTheKey) {
   c = {};
   c.target_reached_m = std::nan("");
   expectKey(c, "target_reached_m");
+  c = ExplorationManagerConfig{};
+  c.target_progress_timeout_s = 0.0;
+  expectKey(c, "target_progress_timeout_s");
+  c = ExplorationManagerConfig{};
+  c.unreachable_retry_s = -1.0;
+  expectKey(c, "unreachable_retry_s");
   c = {};
   c.bounds_world_m = Eigen::AlignedBox3d(Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(0, 0, 0));
   expectKey(c, "bounds_world_m");

@@ -106,6 +106,8 @@ class ExplorationMission {
   /// Writes what the mission leaves behind into `directory` (planner::MissionMap::save: dense
   /// cloud, OctoMap, track, registration). Throws std::runtime_error naming a file it cannot write.
   planner::SavedMissionMap saveMap(const std::string& directory) const;
+  /// The exploration planner's state (maps, frontiers, viewpoints, last plan), for diagnostics.
+  const planner::ExplorationManager& explorationManager() const { return *exploration_; }
   /// The local planner's state (its occupancy window, current trajectory), for diagnostics.
   const traj::TrajectoryServer& trajectoryServer() const { return trajectory_; }
 

@@ -28,6 +28,21 @@ struct AStarConfig {
   /// 1 keeps A* optimal; > 1 (weighted A*) trades path length (at most this factor) for far
   /// fewer expansions in cluttered 3D space.
   double heuristic_weight = 1.0;
+  /// > 0: cells count as blocked only within this distance of an occupied cell centre instead of
+  /// the grid's inflation radius (LocalGrid::isBlocked): the narrow-passage search.
+  double narrow_clearance_m = 0.0;
+  /// A step into an unknown cell costs this many times its length (>= 1): the route keeps to
+  /// space seen free where it can (shortcuts still cross unknown cells). Unknown space
+  /// near the floor is where the Mid-360 (-7 to 52 deg, pitched down 15) does not look (seen: a
+  /// path around an office desk dove to 0.35 m and hit it).
+  double unknown_cost_factor = 1.0;
+  /// With unknown_is_free: unknown cells are traversable only within this height of the band
+  /// between the start's and the goal's heights. The LiDAR looks neither straight down nor
+  /// straight up (Mid-360: -7 to 52 deg, pitched), so a route that leaves that band through
+  /// unknown space heads for a floor or ceiling nobody has seen (seen in ed21: a detour under
+  /// a desk dove from 1.2 m to 0.35 m and hit the floor; one over a wall climbed to 2.25 m and
+  /// hit the ceiling at 2.5 m).
+  double unknown_height_margin_m = 0.5;
   void validate() const;
 };
 
@@ -60,11 +75,22 @@ class AStarPlanner {
   AStarResult plan(const LocalGrid& grid, const Eigen::Vector3d& start_world_m,
                    const Eigen::Vector3d& goal_world_m) const;
   /// True if no cell on the segment is blocked.
+  /// Straight segment a -> b through traversable cells (unknown ones within
+  /// unknown_height_margin_m of the heights of a and b).
   bool lineOfSight(const LocalGrid& grid, const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
   /// Nearest traversable cell within radius_m (by centre distance), false if none.
   bool nearestFree(const LocalGrid& grid, const VoxelKey& k, double radius_m, VoxelKey* out) const;
 
  private:
+  struct Band {
+    double lo_z_m, hi_z_m;
+  };
+  Band unknownBand(double z0_m, double z1_m) const;
+  bool traversable(const LocalGrid& grid, const VoxelKey& k, const Band& unknown_band) const;
+  bool segmentClear(const LocalGrid& grid, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                    const Band& unknown_band) const;
+  bool nearestTraversable(const LocalGrid& grid, const VoxelKey& k, double radius_m,
+                          const Band& unknown_band, VoxelKey* out) const;
   AStarConfig cfg_;
   mutable std::vector<uint32_t> stamp_;
   mutable std::vector<int32_t> node_of_;

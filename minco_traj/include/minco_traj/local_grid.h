@@ -94,8 +94,11 @@ class LocalGrid {
   CellState state(const Eigen::Vector3d& p) const { return state(key(p)); }
   /// Within inflation_radius_m of an occupied cell (or occupied itself).
   bool isInflated(const VoxelKey& k) const;
-  /// Not traversable: outside, inflated, or unknown when !unknown_is_free.
-  bool isBlocked(const VoxelKey& k, bool unknown_is_free) const;
+  /// Not traversable: outside, inflated, or unknown when !unknown_is_free. With
+  /// narrow_clearance_m > 0 an inflated cell is blocked only when an occupied cell centre lies
+  /// within that (smaller) distance: the test of a narrow-passage search, answered from the
+  /// cells around, since it is asked only when the inflated search found no way.
+  bool isBlocked(const VoxelKey& k, bool unknown_is_free, double narrow_clearance_m = 0.0) const;
 
   /// Distance from p to the nearest occupied cell centre, if one lies within radius_m.
   std::optional<double> nearestOccupiedDistance(const Eigen::Vector3d& p_world_m,

@@ -27,6 +27,7 @@ struct LocalPlannerConfig {
   AStarConfig astar = [] {
     AStarConfig c;
     c.heuristic_weight = 1.5;
+    c.unknown_cost_factor = 2.0;
     return c;
   }();
   CorridorConfig corridor;
@@ -39,6 +40,12 @@ struct LocalPlannerConfig {
   /// optimizer.a_max_mps2) and the optimisation is tried once more.
   double braking_first_min_speed_mps = 0.5;
   double braking_first_decel_fraction = 0.7;
+  /// Narrow passages (a 1 m door: the inflation leaves no free cell in it). When no plan is found
+  /// with the full clearance, A* and the corridor keep only this much from occupied cell centres
+  /// (collision radius 0.25 m + half a cell diagonal 0.087 m + margin), and the trajectory is
+  /// flown at narrow_v_max_mps at most, where tracking is tight. 0 turns it off.
+  double narrow_clearance_m = 0.36;
+  double narrow_v_max_mps = 1.0;
   void validate() const;
 };
 
@@ -72,6 +79,8 @@ struct PlanResult {
   bool emergency_stop = false;
   /// The corridor was seeded through the braking point (the shortest path's failed).
   bool braked_first = false;
+  /// Planned with the narrow-passage clearance and speed (the full clearance found no way).
+  bool narrow = false;
   bool goal_adjusted = false;
   bool start_escaped = false;
   AStarResult front_end;
@@ -100,15 +109,18 @@ class LocalPlanner {
   /// Corridor along `path`, optimisation and yaw into `res`; false with the reason in `why`.
   bool optimizeAlong(const LocalGrid& grid, const PlanRequest& req,
                      const std::vector<Eigen::Vector3d>& path, PlanResult* res,
-                     std::string* why) const;
+                     std::string* why, bool narrow = false) const;
+  /// The whole pipeline with the narrow-passage clearance and speed.
+  bool planNarrow(const LocalGrid& grid, const PlanRequest& req, PlanResult* res,
+                  std::string* why) const;
   /// The start, the point just past where braking stops, then A* on to the goal; false when
   /// the vehicle is slow, the braking segment is blocked or no path goes on from there.
   bool brakingFirstPath(const LocalGrid& grid, const PlanRequest& req,
                         std::vector<Eigen::Vector3d>* path) const;
   LocalPlannerConfig cfg_;
-  AStarPlanner astar_;
-  CorridorBuilder corridor_;
-  TrajOptimizer optimizer_;
+  AStarPlanner astar_, astar_narrow_;
+  CorridorBuilder corridor_, corridor_narrow_;
+  TrajOptimizer optimizer_, optimizer_narrow_;
   YawPlanner yaw_;
 };
 

@@ -47,6 +47,11 @@ struct TrajectoryServerConfig {
   double plan_from_future_s = 0.05;   ///< start state sampled this far ahead (compute latency)
   double max_tracking_error_m = 1.0;  ///< farther from the reference: plan from the vehicle state
   double retry_after_failed_plan_s = 0.2;  ///< a failed plan that kept the course is retried then
+  /// Consecutive failed plans wait retry_after_failed_plan_s * 2^(n-1) before the next one, at
+  /// most this long (a predicted collision does not wait).
+  double max_retry_backoff_s = 2.0;
+  /// A new goal farther than this from the last one that failed starts without waiting.
+  double new_question_distance_m = 2.0;
   /// The grid window follows the sensor in horizontal steps of this size (vertical: a quarter
   /// of the window height); recentring costs a pass over the window.
   double recenter_distance_m = 2.0;
@@ -140,6 +145,8 @@ class TrajectoryServer {
   double last_replan_s_ = 0.0;
   std::optional<double> last_update_s_;
   int replans_ = 0;
+  int failed_plans_ = 0;  ///< consecutive
+  std::optional<Eigen::Vector3d> failed_goal_;  ///< the goal of the last failed plan
   std::string message_;
 };
 

@@ -28,6 +28,8 @@ MincoTrajNodeConfig loadMincoTrajNodeConfig(const ros::NodeHandle& private_nh) {
   p.get("plan_from_future_s", s.plan_from_future_s);
   p.get("max_tracking_error_m", s.max_tracking_error_m);
   p.get("retry_after_failed_plan_s", s.retry_after_failed_plan_s);
+  p.get("max_retry_backoff_s", s.max_retry_backoff_s);
+  p.get("new_question_distance_m", s.new_question_distance_m);
   p.get("recenter_distance_m", s.recenter_distance_m);
   p.get("grid/resolution_m", s.grid.resolution_m);
   p.get("grid/size_x_m", s.grid.size_x_m);
@@ -41,6 +43,8 @@ MincoTrajNodeConfig loadMincoTrajNodeConfig(const ros::NodeHandle& private_nh) {
   p.get("astar/goal_search_radius_m", s.planner.astar.goal_search_radius_m);
   p.get("astar/start_escape_radius_m", s.planner.astar.start_escape_radius_m);
   p.get("astar/heuristic_weight", s.planner.astar.heuristic_weight);
+  p.get("astar/unknown_cost_factor", s.planner.astar.unknown_cost_factor);
+  p.get("astar/unknown_height_margin_m", s.planner.astar.unknown_height_margin_m);
   p.get("corridor/clearance_m", s.planner.corridor.clearance_m);
   p.get("corridor/box_margin_m", s.planner.corridor.box_margin_m);
   p.get("corridor/max_seed_length_m", s.planner.corridor.max_seed_length_m);
@@ -52,6 +56,8 @@ MincoTrajNodeConfig loadMincoTrajNodeConfig(const ros::NodeHandle& private_nh) {
   p.get("emergency_decel_mps2", s.planner.emergency_decel_mps2);
   p.get("braking_first_min_speed_mps", s.planner.braking_first_min_speed_mps);
   p.get("braking_first_decel_fraction", s.planner.braking_first_decel_fraction);
+  p.get("narrow_clearance_m", s.planner.narrow_clearance_m);
+  p.get("narrow_v_max_mps", s.planner.narrow_v_max_mps);
   p.rejectUnknown();
   requireThat(!c.world_frame.empty(), "world_frame", "must not be empty");
   requireInRange("command_rate_hz", c.command_rate_hz, 1.0, 1000.0);

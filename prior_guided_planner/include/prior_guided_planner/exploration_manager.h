@@ -28,6 +28,7 @@
 #include "prior_guided_planner/hierarchical_planner.h"
 #include "prior_guided_planner/observation_map.h"
 #include "prior_guided_planner/occupancy_map.h"
+#include "prior_guided_planner/openings.h"
 #include "prior_guided_planner/path_length.h"
 #include "prior_guided_planner/viewpoint_sampler.h"
 
@@ -41,10 +42,22 @@ struct ExplorationManagerConfig {
   LidarFovConfig fov;
   PathSearchConfig path;
   HierarchicalPlannerConfig planner;
+  /// Free-space frontiers, asked for when no surface viewpoint remains (openings.h).
+  bool use_openings = true;
+  OpeningConfig openings;
   /// Plan at most this often [s] unless the target is reached, gone, or hypotheses changed.
   double replan_period_s = 1.0;
   /// The target counts as reached when the robot is this close to it [m].
   double target_reached_m = 1.0;
+  /// The searched path length to the target viewpoint must shrink by target_progress_m within
+  /// target_progress_timeout_s, or the target is set aside as unreachable for
+  /// unreachable_retry_s. The global search and the local planner disagree at times (a gap
+  /// the lattice passes that the vehicle's clearance does not: seen in ed21 and the garage,
+  /// the vehicle hovering for minutes in front of a viewpoint the local planner found no path
+  /// to). Then the next viewpoint gets its turn; the map may have changed when it comes back.
+  double target_progress_m = 0.5;
+  double target_progress_timeout_s = 10.0;
+  double unreachable_retry_s = 60.0;
   /// A target viewpoint farther than this horizontally (or max_goal_climb_m vertically) is
   /// handed to the local planner in stages: the point of the searched path at that distance.
   /// The local planner sees a window around the robot only (minco_traj: 24 x 24 x 6 m); a goal
@@ -156,6 +169,19 @@ class ExplorationManager {
   std::vector<int> viewpoint_cluster_;  ///< cluster id per entry of viewpoints_
   std::vector<double> robot_len_;       ///< L(X_r, V) of the last plan per viewpoint
   std::set<int> reached_viewpoint_ids_;
+  std::set<int> reached_opening_ids_;  ///< openings visited (kept: one that stays is a dead end)
+  std::map<int, Eigen::Vector3d> opening_look_at_;  ///< per opening viewpoint id
+  /// Viewpoints (and openings) set aside as unreachable, until the time given [s].
+  std::map<int, double> set_aside_until_s_;
+  /// Progress toward the current target (target_progress_m).
+  struct Progress {
+    int viewpoint_id;
+    double best_length_m;
+    double since_s;
+  };
+  std::optional<Progress> progress_;
+  /// Sets the target aside when the robot made no progress toward it; true if it did.
+  bool checkProgress(double time_s);
   std::optional<PlanningResult> last_plan_;
   std::optional<double> last_time_s_;
   std::optional<double> last_plan_time_s_;

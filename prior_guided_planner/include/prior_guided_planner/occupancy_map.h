@@ -126,6 +126,9 @@ class OccupancyMap {
   /// True when the ball of `radius_m` around `p_world_m` touches no occupied cell and the cell
   /// at its centre is free (or unknown, when `unknown_is_safe`). This is the inflated query.
   bool isSafe(const Eigen::Vector3d& p_world_m, double radius_m, bool unknown_is_safe) const;
+  /// Every cell the ball of `radius_m` around `p_world_m` touches is known free: no occupied
+  /// and no unknown cell (a viewpoint next to a floor not seen yet is not safe).
+  bool isKnownFree(const Eigen::Vector3d& p_world_m, double radius_m) const;
   /// isSafe at samples every half cell along the segment (end points included).
   bool segmentSafe(const Eigen::Vector3d& a_world_m, const Eigen::Vector3d& b_world_m,
                    double radius_m, bool unknown_is_safe) const;
@@ -165,6 +168,9 @@ class OccupancyMap {
   bool lastScanAddedOccupied() const { return last_added_occupied_; }
 
  private:
+  /// Every cell whose box meets the ball satisfies ok.
+  bool allCellsInBall(const Eigen::Vector3d& p_world_m, double radius_m,
+                      bool (*ok)(OccupancyState)) const;
   struct Cell {
     int8_t log_odds = kUnknownValue;
     uint8_t stamp = 0;

@@ -9,6 +9,17 @@
 //    same safety test, so open-space detours are not inflated by the lattice.
 //  - Lattice edges are not checked between their two end balls: a path length estimate for
 //    planning, not a collision-free trajectory (minco_traj builds that).
+//  - Narrow passages: a 1 m door seen at 0.3 m occupancy has two or three free cells, and no
+//    node of the 0.6 m lattice has the vehicle radius of clearance in it (seen: every method
+//    stuck at 55-65 % of a generated office, rooms behind doors unreachable). A node without
+//    that clearance is still traversable as a NARROW node when one of its 2^3 sub-points (the
+//    centres of the occupancy cells it covers) is safe at `narrow_radius_m`; the node then
+//    stands at that sub-point. Edges that touch a narrow node are checked (segment safe at
+//    narrow_radius_m) and cost `narrow_cost_factor` times their length, so wide routes are
+//    preferred and a narrow one is taken when it is the only way. Searches run over wide nodes
+//    first and cross narrow ones only for what they did not reach, so open space pays nothing
+//    for the shell of narrow nodes along its walls. minco_traj, at 0.1 m, decides whether the
+//    vehicle really fits.
 //  - No path: std::nullopt (never a large number). The expansion budget ending also gives
 //    nullopt, with `budget_exhausted` set.
 //  - Before any lattice search both ends' join nodes are labelled with their connected
@@ -52,6 +63,10 @@ namespace efs::planner {
 struct PathSearchConfig {
   double search_resolution_m = 0.6;
   double vehicle_radius_m = 0.4;
+  /// Clearance of a narrow node's sub-point (0 turns narrow nodes off; < vehicle_radius_m).
+  double narrow_radius_m = 0.1;
+  /// Edges touching a narrow node cost this many times their length (>= 1).
+  double narrow_cost_factor = 1.5;
   bool unknown_is_traversable = false;
   int max_expansions = 200000;
   /// Cached results are reused while both end points moved less than this.
@@ -111,8 +126,16 @@ class PathSearch {
   Slot slot(const VoxelKey& k);
   bool traversable(const VoxelKey& k);
   bool traversable(const Slot& s, const VoxelKey& k);
+  /// Where a traversable node stands: its centre, or a narrow node's safe sub-point.
+  Eigen::Vector3d nodePosition(const Slot& s, const VoxelKey& k) const;
+  /// Whether the edge between two traversable neighbours may be used (always between wide
+  /// nodes; a safe segment when one is narrow), and what it costs (std::nullopt: unusable).
+  std::optional<double> edgeCost(const Slot& sa, const VoxelKey& a, const Slot& sb,
+                                 const VoxelKey& b, int direction) const;
   uint32_t component(const VoxelKey& k);
   Joins attach(const Eigen::Vector3d& p);
+  /// The joins at wide (not narrow) nodes.
+  Joins wideJoins(const Joins& joins);
   std::vector<Eigen::Vector3d> shorten(std::vector<Eigen::Vector3d> path) const;
   bool segmentSafe(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius_m,
                    bool unknown_is_safe) const;
@@ -142,6 +165,7 @@ class PathSearch {
   uint32_t label_epoch_ = 1;  ///< component labels of older epochs are stale
   uint32_t next_label_ = 1;
   uint32_t search_epoch_ = 0;  ///< search scratch of older epochs is stale
+  bool wide_only_ = false;     ///< the running search keeps off narrow nodes
 };
 
 struct PathCacheStats {

@@ -51,6 +51,9 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   e.planner.mode = parseBaselineMode(mode, private_nh.resolveName("mode"));
   p.get("replan_period_s", e.replan_period_s);
   p.get("target_reached_m", e.target_reached_m);
+  p.get("target_progress_m", e.target_progress_m);
+  p.get("target_progress_timeout_s", e.target_progress_timeout_s);
+  p.get("unreachable_retry_s", e.unreachable_retry_s);
   p.get("max_goal_distance_m", e.max_goal_distance_m);
   p.get("max_goal_climb_m", e.max_goal_climb_m);
   std::vector<double> lo, hi;
@@ -76,6 +79,8 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("max_viewpoints_per_cluster", e.viewpoint.max_viewpoints_per_cluster);
   p.get("vehicle_radius_m", e.path.vehicle_radius_m);
   p.get("path_search_resolution_m", e.path.search_resolution_m);
+  p.get("path_narrow_radius_m", e.path.narrow_radius_m);
+  p.get("path_narrow_cost_factor", e.path.narrow_cost_factor);
 
   p.get("rho_m", e.planner.attachment.rho_m);
   p.get("influence_radius_m", e.planner.attachment.influence_radius_m);

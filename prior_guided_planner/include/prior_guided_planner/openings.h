@@ -1,0 +1,49 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// Openings: the free-space frontiers of the occupancy map (known free cells with an unknown
+// horizontal neighbour, inside the exploration box), clustered, with one viewpoint each. The
+// surface frontiers of the observation map (EPIC's, paper Sec. VI-A) miss a door to an unseen
+// room: what the LiDAR saw through it is close, hence well observed, and its edge borders
+// unknown space, not a poorly observed surface (seen: a real office, ed21, "explored" after one
+// second from a 3 x 4 m room). The exploration manager asks for openings only when no surface
+// viewpoint remains, so they finish the job where the surface frontiers cannot see a way on.
+// Unknown cells above and below do not count: the Mid-360 sees little up and down, and a
+// ceiling or floor not seen yet is a surface for the observation map, not a way into new space.
+// Cells right above a floor (two cells) or below a ceiling do not count either (the space under
+// a desk; seen: a collision 0.35 m above an office floor flying to such an opening).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <optional>
+#include <vector>
+
+#include "prior_guided_planner/occupancy_map.h"
+
+namespace efs::planner {
+
+struct OpeningConfig {
+  /// Clusters of fewer opening cells are noise (a shadow behind a post), not a way on.
+  int min_cells = 6;
+  /// A viewpoint needs a free ball of this radius (the path search's narrow radius: a door).
+  double clearance_m = 0.1;
+  /// Openings beyond this range of the robot are not looked for (bounds the scan) [m].
+  double search_radius_m = 60.0;
+  void validate() const;
+};
+
+struct Opening {
+  /// Stable while the opening exists: built from its smallest cell key.
+  int id = 0;
+  Eigen::Vector3d viewpoint_world_m = Eigen::Vector3d::Zero();
+  double yaw_rad = 0.0;  ///< toward the unknown side
+  int cells = 0;
+};
+
+/// The openings within search_radius_m of `robot_world_m` (and inside `bounds_world_m` when
+/// given), largest first.
+std::vector<Opening> findOpenings(const OccupancyMap& occupancy, const Eigen::Vector3d& robot_world_m,
+                                  const std::optional<Eigen::AlignedBox3d>& bounds_world_m,
+                                  const OpeningConfig& config = {});
+
+}  // namespace efs::planner

@@ -1,0 +1,76 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "prior_guided_planner/openings.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "efs_common/config_check.h"
+#include "observation_map_test_scenes.h"
+
+namespace efs::planner {
+namespace {
+
+using testing::Box;
+using testing::Scene;
+
+// A 20 x 8 x 3 m hall split at x = 5 by a wall with a 1.2 m door (y in [-0.6, 0.6]), scanned
+// from the left part with a 8 m range: the right part is seen only through the door.
+OccupancyMap scanned(bool door_open) {
+  Scene scene;
+  scene.room = {{-5, -4, 0}, {15, 4, 3}};
+  if (door_open) {
+    scene.solids.push_back({{5.0, -4, 0}, {5.3, -0.6, 3}});
+    scene.solids.push_back({{5.0, 0.6, 0}, {5.3, 4, 3}});
+  } else {
+    scene.solids.push_back({{5.0, -4, 0}, {5.3, 4, 3}});
+  }
+  OccupancyMap occ;
+  for (const Eigen::Vector3d& o : {Eigen::Vector3d(0, 0, 1.5), Eigen::Vector3d(2, -2, 1.2),
+                                  Eigen::Vector3d(2, 2, 1.8)})
+    occ.insertScan(o, scene.scanSphere(o, 1.0, 8.0));
+  return occ;
+}
+
+TEST(Openings, ADoorToUnseenSpaceIsAWayOn) {
+  const OccupancyMap occ = scanned(true);
+  const std::vector<Opening> openings = findOpenings(occ, {0, 0, 1.5}, std::nullopt);
+  ASSERT_FALSE(openings.empty());
+  const Opening& o = openings.front();
+  // Through the door, looking on into the unseen part.
+  EXPECT_GT(o.viewpoint_world_m.x(), 5.0) << o.viewpoint_world_m.transpose();
+  EXPECT_GT(std::cos(o.yaw_rad), 0.5) << o.yaw_rad;
+  EXPECT_TRUE(occ.isSafe(o.viewpoint_world_m, OpeningConfig().clearance_m, false));
+  // Off the floor.
+  EXPECT_GT(o.viewpoint_world_m.z(), 0.6);
+  for (const Opening& p : openings) EXPECT_GT(p.viewpoint_world_m.x(), 4.5);
+  // Stable ids: the same map gives the same openings.
+  const std::vector<Opening> again = findOpenings(occ, {0, 0, 1.5}, std::nullopt);
+  ASSERT_EQ(again.size(), openings.size());
+  for (size_t i = 0; i < again.size(); ++i) EXPECT_EQ(again[i].id, openings[i].id);
+}
+
+TEST(Openings, AClosedRoomHasNoneAndTheBoxEdgeIsNone) {
+  EXPECT_TRUE(findOpenings(scanned(false), {0, 0, 1.5}, std::nullopt).empty());
+  // The door open but the exploration box ending at the wall: nothing beyond it is wanted.
+  const OccupancyMap occ = scanned(true);
+  const Eigen::AlignedBox3d box(Eigen::Vector3d(-6, -5, -1), Eigen::Vector3d(5.0, 5, 4));
+  EXPECT_TRUE(findOpenings(occ, {0, 0, 1.5}, box).empty());
+  // Beyond the search radius: not looked for.
+  OpeningConfig near;
+  near.search_radius_m = 3.0;
+  EXPECT_TRUE(findOpenings(occ, {-4, 0, 1.5}, std::nullopt, near).empty());
+}
+
+TEST(Openings, BadInput) {
+  OccupancyMap empty;
+  EXPECT_TRUE(findOpenings(empty, {0, 0, 0}, std::nullopt).empty());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(findOpenings(scanned(true), {nan, 0, 0}, std::nullopt).empty());
+  OpeningConfig bad;
+  bad.min_cells = 0;
+  EXPECT_THROW(findOpenings(empty, {0, 0, 0}, std::nullopt, bad), ConfigError);
+}
+
+}  // namespace
+}  // namespace efs::planner
