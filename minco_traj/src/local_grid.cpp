@@ -18,6 +18,7 @@ void LocalGridConfig::validate() const {
   requireThat(cells <= 64e6, "local_grid.size_x_m",
               "window has more than 64 million cells; enlarge resolution_m or shrink the window");
   requireInRange("local_grid.inflation_radius_m", inflation_radius_m, 0.0, 3.0);
+  requireInRange("local_grid.narrow_radius_m", narrow_radius_m, 0.0, 3.0);
   requireInRange("local_grid.memory_radius_m", memory_radius_m, 0.0, 100000.0);
   requirePositive("local_grid.max_ray_length_m", max_ray_length_m);
   requireInRange("local_grid.ray_downsample_m", ray_downsample_m, 0.0, 5.0);
@@ -54,6 +55,9 @@ LocalGrid::LocalGrid(const LocalGridConfig& cfg, const Eigen::Vector3d& c) : cfg
   observed_.assign(n, 0);
   occupied_.assign(n, 0);
   inflation_.assign(n, 0);
+  // At or above the inflation radius the inflation itself answers (isBlocked).
+  if (cfg_.narrow_radius_m > 0.0 && cfg_.narrow_radius_m < cfg_.inflation_radius_m)
+    narrow_inflation_.assign(n, 0);
   scan_stamp_.assign(n, 0);
   const VoxelKey ck = key(c);
   min_key_ = {ck.x - nx_ / 2, ck.y - ny_ / 2, ck.z - nz_ / 2};
@@ -63,6 +67,13 @@ LocalGrid::LocalGrid(const LocalGridConfig& cfg, const Eigen::Vector3d& c) : cfg
     for (int dy = -r; dy <= r; ++dy)
       for (int dz = -r; dz <= r; ++dz)
         if (dx * dx + dy * dy + dz * dz <= r2) kernel_.push_back({dx, dy, dz});
+  const auto sq = [](const VoxelKey& o) { return o.x * o.x + o.y * o.y + o.z * o.z; };
+  std::stable_sort(kernel_.begin(), kernel_.end(),
+                   [&](const VoxelKey& a, const VoxelKey& b) { return sq(a) < sq(b); });
+  const double nr2 = std::pow(cfg_.narrow_radius_m / cfg_.resolution_m, 2) + 1e-9;
+  if (!narrow_inflation_.empty())
+    while (narrow_kernel_size_ < kernel_.size() && sq(kernel_[narrow_kernel_size_]) <= nr2)
+      ++narrow_kernel_size_;
 }
 
 Eigen::Vector3d LocalGrid::windowMin() const {
@@ -167,6 +178,7 @@ void LocalGrid::cropMemory() {
 
 void LocalGrid::recomputeInflation() {
   std::fill(inflation_.begin(), inflation_.end(), 0);
+  std::fill(narrow_inflation_.begin(), narrow_inflation_.end(), 0);
   // Sequential pass over the slots; keys only for the (few) occupied ones.
   const std::vector<int> kx = slotKeys(min_key_.x, nx_), ky = slotKeys(min_key_.y, ny_),
                          kz = slotKeys(min_key_.z, nz_);
@@ -178,11 +190,17 @@ void LocalGrid::recomputeInflation() {
 }
 
 void LocalGrid::stampInflation(const VoxelKey& k, int sign) {
-  for (const VoxelKey& o : kernel_) {
+  const auto bump = [sign](uint16_t& c) {
+    c = static_cast<uint16_t>(sign > 0 ? c + 1 : (c > 0 ? c - 1 : 0));
+  };
+  const bool narrow = !narrow_inflation_.empty();
+  for (size_t i = 0; i < kernel_.size(); ++i) {
+    const VoxelKey& o = kernel_[i];
     const VoxelKey n{k.x + o.x, k.y + o.y, k.z + o.z};
     if (!inWindow(n)) continue;
-    uint16_t& c = inflation_[index(n)];
-    c = static_cast<uint16_t>(sign > 0 ? c + 1 : (c > 0 ? c - 1 : 0));
+    const size_t idx = index(n);
+    bump(inflation_[idx]);
+    if (narrow && i < narrow_kernel_size_) bump(narrow_inflation_[idx]);
   }
 }
 
@@ -271,6 +289,7 @@ void LocalGrid::setAllFree() {
   std::fill(observed_.begin(), observed_.end(), 1);
   std::fill(occupied_.begin(), occupied_.end(), 0);
   std::fill(inflation_.begin(), inflation_.end(), 0);
+  std::fill(narrow_inflation_.begin(), narrow_inflation_.end(), 0);
 }
 
 CellState LocalGrid::state(const VoxelKey& k) const {
@@ -292,7 +311,11 @@ bool LocalGrid::isBlocked(const VoxelKey& k, bool unknown_is_free,
     if (narrow_clearance_m <= 0.0 || narrow_clearance_m >= cfg_.inflation_radius_m ||
         occupied_[idx])
       return true;
-    if (nearestOccupiedDistance(center(k), narrow_clearance_m)) return true;
+    if (!narrow_inflation_.empty() && std::abs(narrow_clearance_m - cfg_.narrow_radius_m) < 1e-9) {
+      if (narrow_inflation_[idx] > 0) return true;
+    } else if (nearestOccupiedDistance(center(k), narrow_clearance_m)) {
+      return true;
+    }
   }
   return !unknown_is_free && !observed_[idx];
 }

@@ -64,8 +64,19 @@ std::string vecString(const Eigen::Vector3d& v) {
 
 }  // namespace
 
+namespace {
+/// The grid keeps its narrow inflation at the planner's narrow clearance, so a narrow-passage
+/// search asks one cell per step.
+LocalGridConfig withNarrowLayer(LocalGridConfig grid, double narrow_clearance_m) {
+  grid.narrow_radius_m = narrow_clearance_m;
+  return grid;
+}
+}  // namespace
+
 TrajectoryServer::TrajectoryServer(const TrajectoryServerConfig& config)
-    : cfg_(validated(config)), grid_(cfg_.grid, Eigen::Vector3d::Zero()), planner_(cfg_.planner) {}
+    : cfg_(validated(config)),
+      grid_(withNarrowLayer(cfg_.grid, cfg_.planner.narrow_clearance_m), Eigen::Vector3d::Zero()),
+      planner_(cfg_.planner) {}
 
 void TrajectoryServer::followWith(const Eigen::Vector3d& p_world_m, bool may_move) {
   const Eigen::Vector3d offset = p_world_m - 0.5 * (grid_.windowMin() + grid_.windowMax());

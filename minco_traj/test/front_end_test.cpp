@@ -187,7 +187,54 @@ TEST(LocalGrid, InflationAfterRecentringMatchesAFreshGrid) {
   }
 }
 
+// The narrow inflation layer answers exactly what the search of the cells around answers, after
+// cells come and go.
+TEST(LocalGrid, NarrowLayerAgreesWithTheSearchAround) {
+  LocalGridConfig with = smallGrid(0.45), without = smallGrid(0.45);
+  with.narrow_radius_m = 0.36;
+  without.narrow_radius_m = 0.0;
+  LocalGrid a(with, Eigen::Vector3d(0, 0, 0.3)), b(without, Eigen::Vector3d(0, 0, 0.3));
+  a.setAllFree();
+  b.setAllFree();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> ux(-1.45, 1.45), uz(0.0, 0.6);
+  std::vector<Eigen::Vector3d> placed;
+  for (int i = 0; i < 60; ++i) {
+    const Eigen::Vector3d p(ux(rng), ux(rng), uz(rng));
+    a.setOccupied(p);
+    b.setOccupied(p);
+    placed.push_back(p);
+  }
+  for (int i = 0; i < 20; ++i) {  // some leave again
+    a.setFree(placed[i]);
+    b.setFree(placed[i]);
+  }
+  int differ = 0, narrow_free = 0, wide_blocked = 0;
+  for (double x = -1.45; x < 1.5; x += 0.1)
+    for (double y = -1.45; y < 1.5; y += 0.1)
+      for (double z = 0.05; z < 0.6; z += 0.1) {
+        const VoxelKey k = a.key({x, y, z});
+        const bool na = a.isBlocked(k, true, 0.36), nb = b.isBlocked(k, true, 0.36);
+        differ += na != nb;
+        narrow_free += !na && a.isBlocked(k, true);
+        wide_blocked += a.isBlocked(k, true);
+      }
+  EXPECT_EQ(differ, 0);
+  EXPECT_GT(narrow_free, 0);  // the narrow search does open cells the full clearance blocks
+  EXPECT_GT(wide_blocked, 0);
+}
+
 TEST(LocalGrid, ConfigValidationNamesKey) {
+  {
+    LocalGridConfig c;
+    c.narrow_radius_m = -0.1;
+    try {
+      c.validate();
+      ADD_FAILURE() << "negative narrow_radius_m accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("narrow_radius_m"), std::string::npos);
+    }
+  }
   LocalGridConfig c;
   c.resolution_m = 0.0;
   EXPECT_THROW(c.validate(), ConfigError);
