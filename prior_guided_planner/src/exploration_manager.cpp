@@ -168,13 +168,16 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   std::vector<int> vp_cluster;
   std::set<int> alive;
   int set_aside = 0;
+  // Alive, not reached, not set aside: a candidate.
+  const auto candidate = [&](int id, const std::set<int>& reached) {
+    alive.insert(id);
+    if (reached.count(id)) return false;
+    if (!set_aside_until_s_.count(id)) return true;
+    ++set_aside;
+    return false;
+  };
   for (const Viewpoint& v : viewpoint_manager_.all()) {
-    alive.insert(v.id);
-    if (reached_viewpoint_ids_.count(v.id)) continue;
-    if (set_aside_until_s_.count(v.id)) {
-      ++set_aside;
-      continue;
-    }
+    if (!candidate(v.id, reached_viewpoint_ids_)) continue;
     vps.push_back({v.id, v.position_world_m, v.yaw_rad});
     vp_cluster.push_back(v.cluster_id);
   }
@@ -183,12 +186,7 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   if (vps.empty() && config_.use_openings) {
     for (const Opening& o :
          findOpenings(occupancy_, robot.position_world_m, config_.bounds_world_m, config_.openings)) {
-      alive.insert(o.id);
-      if (reached_opening_ids_.count(o.id)) continue;
-      if (set_aside_until_s_.count(o.id)) {
-        ++set_aside;
-        continue;
-      }
+      if (!candidate(o.id, reached_opening_ids_)) continue;
       vps.push_back({o.id, o.viewpoint_world_m, o.yaw_rad});
       vp_cluster.push_back(-1);
       opening_look_at_[o.id] =

@@ -67,19 +67,7 @@ FrontierUpdateStats FrontierClusterer::update(ObservationMap& map) {
   });
   for (const VoxelKey& seed : seeds) {
     if (!pending.count(seed)) continue;
-    std::vector<VoxelKey> comp{seed};
-    pending.erase(seed);
-    for (size_t i = 0; i < comp.size(); ++i) {
-      const VoxelKey k = comp[i];
-      for (const VoxelKey& o : neighbourOffsets26()) {
-        const VoxelKey n{k.x + o.x, k.y + o.y, k.z + o.z};
-        auto it = pending.find(n);
-        if (it == pending.end()) continue;
-        pending.erase(it);
-        comp.push_back(n);
-      }
-    }
-    addCluster(std::move(comp), map.resolution());
+    addCluster(takeComponent26(seed, pending), map.resolution());
   }
   st.clusters_removed = last_removed_.size();
   st.clusters_created = last_created_.size();

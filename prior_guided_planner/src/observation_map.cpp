@@ -33,6 +33,22 @@ const std::vector<VoxelKey>& neighbourOffsets26() {
   return offsets;
 }
 
+std::vector<VoxelKey> takeComponent26(const VoxelKey& seed,
+                                      std::unordered_set<VoxelKey, VoxelKeyHash>& pending) {
+  std::vector<VoxelKey> comp{seed};
+  pending.erase(seed);
+  for (size_t i = 0; i < comp.size(); ++i) {
+    const VoxelKey k = comp[i];
+    for (const VoxelKey& o : neighbourOffsets26()) {
+      auto it = pending.find({k.x + o.x, k.y + o.y, k.z + o.z});
+      if (it == pending.end()) continue;
+      comp.push_back(*it);
+      pending.erase(it);
+    }
+  }
+  return comp;
+}
+
 ObservationMap::ObservationMap(ObservationMapConfig config) : config_(config) {
   config_.validate();
 }

@@ -8,6 +8,7 @@
 #include <unordered_set>
 
 #include "efs_common/config_check.h"
+#include "prior_guided_planner/observation_map.h"
 
 namespace efs::planner {
 
@@ -60,24 +61,10 @@ std::vector<Opening> findOpenings(const OccupancyMap& occ, const Eigen::Vector3d
     if (unknown > 0) cells.emplace(k, dir);
   });
   // 26-connected clusters.
-  std::unordered_set<VoxelKey, VoxelKeyHash> seen;
-  for (const auto& [start, unused] : cells) {
-    if (seen.count(start)) continue;
-    std::vector<VoxelKey> cluster{start}, stack{start};
-    seen.insert(start);
-    while (!stack.empty()) {
-      const VoxelKey k = stack.back();
-      stack.pop_back();
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const VoxelKey n{k.x + dx, k.y + dy, k.z + dz};
-            if (!cells.count(n) || seen.count(n)) continue;
-            seen.insert(n);
-            cluster.push_back(n);
-            stack.push_back(n);
-          }
-    }
+  std::unordered_set<VoxelKey, VoxelKeyHash> pending;
+  for (const auto& [k, unused] : cells) pending.insert(k);
+  while (!pending.empty()) {
+    const std::vector<VoxelKey> cluster = takeComponent26(*pending.begin(), pending);
     if (static_cast<int>(cluster.size()) < cfg.min_cells) continue;
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     Eigen::Vector2d dir = Eigen::Vector2d::Zero();

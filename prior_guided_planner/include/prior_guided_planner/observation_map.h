@@ -127,4 +127,9 @@ class ObservationMap {
 /// The 26 neighbour offsets of a cell.
 const std::vector<VoxelKey>& neighbourOffsets26();
 
+/// The 26-connected component of `pending` that holds `seed`, taken out of `pending` (seed
+/// first). `seed` must be in `pending`.
+std::vector<VoxelKey> takeComponent26(const VoxelKey& seed,
+                                      std::unordered_set<VoxelKey, VoxelKeyHash>& pending);
+
 }  // namespace efs::planner
