@@ -239,8 +239,8 @@ void Se3Controller::observeImu(const Eigen::Vector3d& a_world_mps2, double stamp
   if (imu_samples_.size() > kMaxImuSamples) imu_samples_.pop_front();
 }
 
-ControlOutput Se3Controller::update(const OdometryState& odom, const FlatReference& ref,
-                                    double now_s) {
+ControlOutput Se3Controller::update(const OdometryState& odom,
+                                    const std::optional<FlatReference>& reference, double now_s) {
   if (!std::isfinite(now_s)) throw std::invalid_argument("Se3Controller::update: now_s not finite");
   std::ostringstream why;
   const bool odom_ok = finite(odom);
@@ -272,7 +272,8 @@ ControlOutput Se3Controller::update(const OdometryState& odom, const FlatReferen
     return out;
   }
   const double odom_age = now_s - last_odom_.stamp_s;
-  const bool ref_fresh = finite(ref) && now_s - ref.stamp_s <= cfg_.command_timeout_s;
+  const FlatReference ref = reference.value_or(FlatReference{});
+  const bool ref_fresh = reference && finite(ref) && now_s - ref.stamp_s <= cfg_.command_timeout_s;
   if (odom_age > cfg_.odom_timeout_s && ref_fresh && !descending_ &&
       odom_age <= cfg_.odom_timeout_s + cfg_.feedforward_on_odometry_loss_s) {
     // Dead reckoning from the last odometry: the commanded acceleration, reached with the
@@ -329,7 +330,7 @@ ControlOutput Se3Controller::update(const OdometryState& odom, const FlatReferen
     reckoning_ = false;
     const bool ref_ok = finite(ref);
     const double ref_age = now_s - ref.stamp_s;
-    if (!ref_ok || ref_age > cfg_.command_timeout_s) {
+    if (!reference || !ref_ok || ref_age > cfg_.command_timeout_s) {
       if (!holding_) {
         holding_ = true;
         hold_position_ = last_odom_.p_world_m;
@@ -340,7 +341,9 @@ ControlOutput Se3Controller::update(const OdometryState& odom, const FlatReferen
       hold.yaw_rad = hold_yaw_;
       out = track(last_odom_, hold, false);
       out.mode = ControlMode::kHoldPosition;
-      if (!ref_ok)
+      if (!reference)
+        why << "no reference yet";
+      else if (!ref_ok)
         why << "reference rejected (non-finite value)";
       else
         why << "reference stale (" << ref_age << " s > " << cfg_.command_timeout_s << " s)";

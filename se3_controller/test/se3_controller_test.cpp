@@ -221,6 +221,21 @@ TEST(Safety, StaleCommandHoversAtTheLastPosition) {
   EXPECT_EQ(out.mode, ControlMode::kTracking);
 }
 
+TEST(Safety, NoReferenceYetHoldsWhereTheVehicleIsEvenJustAfterTheClockStarts) {
+  // A simulated clock starts at 0: a default reference (origin, stamp 0) would look fresh here.
+  Se3Controller c;
+  const double mg = c.config().mass_kg * c.config().gravity_mps2;
+  auto out = c.update(hoverOdom(0.1, {5, 9, 10}), std::nullopt, 0.1);
+  EXPECT_EQ(out.mode, ControlMode::kHoldPosition);
+  EXPECT_NE(out.reason.find("no reference yet"), std::string::npos) << out.reason;
+  EXPECT_LT(out.position_error_m.norm(), 1e-12);
+  EXPECT_NEAR(out.so3.force_world_N.z(), mg, 1e-9);
+  EXPECT_LT(out.so3.force_world_N.head<2>().norm(), 1e-12);
+  // The first reference ends the hold.
+  out = c.update(hoverOdom(0.2, {5, 9, 10}), hoverRef(0.2, {5, 9, 10}), 0.2);
+  EXPECT_EQ(out.mode, ControlMode::kTracking);
+}
+
 TEST(Safety, NaNReferenceIsRejectedAndHovers) {
   Se3Controller c;
   FlatReference r = hoverRef(0.0, {3, 0, 1});

@@ -186,6 +186,9 @@ TEST_F(PlannerNodeTest, BadInputIsReportedAndTheNodeKeepsPlanning) {
     h.stamp = ros::Time::now();
     h.frame_id = "world";
     nan_cloud = efs::ros_common::toPointCloud2(pts, h);
+    // Scans are ray cast from the odometry at their stamp: one there, before the scan.
+    publishOdom(h.stamp);
+    ros::WallDuration(0.05).sleep();
   }
   scan_pub_.publish(nan_cloud);
   EXPECT_TRUE(logs.waitFor(kNode, "2 of", 3.0)) << logs.size() << " log lines seen";
@@ -201,6 +204,11 @@ TEST_F(PlannerNodeTest, BadInputIsReportedAndTheNodeKeepsPlanning) {
   EXPECT_TRUE(logs.waitFor(kNode, "scan refused", 3.0));
   scan_pub_.publish(scan("camera_init"));
   EXPECT_TRUE(logs.waitFor(kNode, "camera_init", 3.0));
+  // Stamped where no odometry is: its rays would start from a guess, so it is not used.
+  sensor_msgs::PointCloud2 future = scan("world");
+  future.header.stamp = ros::Time::now() + ros::Duration(5.0);
+  scan_pub_.publish(future);
+  EXPECT_TRUE(logs.waitFor(kNode, "sensor position at its stamp is unknown", 3.0));
 
   // A hypothesis with NaN scale: refused by name; the planner stays prior-free.
   explore_from_sketch::RegistrationHypotheses hyps;

@@ -6,6 +6,7 @@
 
 #include "efs_common_ros/cloud_conversions.h"
 #include "efs_common_ros/param_reader.h"
+#include "efs_common_ros/position_history_params.h"
 #include "minco_traj_ros/topics.h"
 #include "minco_traj_ros/traj_messages.h"
 
@@ -20,6 +21,7 @@ MincoTrajNodeConfig loadMincoTrajNodeConfig(const ros::NodeHandle& private_nh) {
   p.get("odom_timeout_s", c.odom_timeout_s);
   p.get("look_at_distance_m", c.look_at_distance_m);
   p.get("marker_dt_s", c.marker_dt_s);
+  c.scan_origin = ros_common::readPositionHistoryConfig(p, "scan_origin");
   p.get("replan_period_s", s.replan_period_s);
   p.get("replan_horizon_remaining_s", s.replan_horizon_remaining_s);
   p.get("collision_check_horizon_s", s.collision_check_horizon_s);
@@ -69,7 +71,7 @@ MincoTrajNodeConfig loadMincoTrajNodeConfig(const ros::NodeHandle& private_nh) {
 }
 
 MincoTrajNode::MincoTrajNode(ros::NodeHandle nh, const MincoTrajNodeConfig& config)
-    : config_(config), server_(config.server) {
+    : config_(config), server_(config.server), positions_(config.scan_origin) {
   traj_pub_ = nh.advertise<explore_from_sketch::PolynomialTrajectory>(topics::kTrajectory, 5, true);
   cmd_pub_ = nh.advertise<explore_from_sketch::PositionCommand>(topics::kPositionCommand, 10);
   marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>(topics::kMarkers, 2, true);
@@ -123,8 +125,20 @@ std::pair<std::optional<VehicleState>, ros::Time> MincoTrajNode::latestState() c
 }
 
 void MincoTrajNode::onScan(const sensor_msgs::PointCloud2::ConstPtr& msg) {
-  const std::optional<VehicleState> state = latestState().first;
-  if (!state) return;  // the sensor origin comes from odometry
+  // Unstamped like unstamped odometry: taken as now.
+  const ros::Time stamp = msg->header.stamp.isZero() ? ros::Time::now() : msg->header.stamp;
+  std::optional<Eigen::Vector3d> origin;
+  std::string why;
+  {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    origin = positions_.at(stamp.toSec(), &why);
+  }
+  if (!origin) {
+    ROS_WARN_THROTTLE(1.0,
+                      "minco_traj: scan ignored: the sensor position at its stamp is unknown: %s",
+                      why.c_str());
+    return;
+  }
   std::vector<Eigen::Vector3f> points;
   try {
     points = ros_common::fromPointCloud2(*msg);
@@ -132,7 +146,7 @@ void MincoTrajNode::onScan(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     ROS_WARN_THROTTLE(1.0, "minco_traj: scan rejected: %s", e.what());
     return;
   }
-  server_.insertScan(state->p_world_m, points);
+  server_.insertScan(*origin, points);
 }
 
 void MincoTrajNode::onOdom(const nav_msgs::Odometry::ConstPtr& msg) {
@@ -152,6 +166,7 @@ void MincoTrajNode::onOdom(const nav_msgs::Odometry::ConstPtr& msg) {
   std::lock_guard<std::mutex> lock(state_mutex_);
   state_ = s;
   state_stamp_ = msg->header.stamp.isZero() ? ros::Time::now() : msg->header.stamp;
+  positions_.add(state_stamp_.toSec(), s.p_world_m);
 }
 
 void MincoTrajNode::onTarget(const geometry_msgs::PoseStamped::ConstPtr& msg) {

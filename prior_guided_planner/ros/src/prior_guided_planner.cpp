@@ -15,6 +15,7 @@
 #include "efs_common/config_check.h"
 #include "efs_common_ros/cloud_conversions.h"
 #include "efs_common_ros/param_reader.h"
+#include "efs_common_ros/position_history_params.h"
 #include "prior_guided_planner/prior_from_bundle.h"
 #include "prior_guided_planner_ros/topics.h"
 #include "prior_map_tools/prior_bundle.h"
@@ -46,6 +47,7 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("predicted_free_spacing_m", c.predicted_free_spacing_m);
   p.get("plan_rate_hz", c.plan_rate_hz);
   p.get("odom_timeout_s", c.odom_timeout_s);
+  c.scan_origin = ros_common::readPositionHistoryConfig(p, "scan_origin");
   std::string mode = toString(e.planner.mode);
   p.get("mode", mode);
   e.planner.mode = parseBaselineMode(mode, private_nh.resolveName("mode"));
@@ -115,7 +117,7 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
 
 PriorGuidedPlannerNode::PriorGuidedPlannerNode(ros::NodeHandle nh,
                                                const PriorGuidedPlannerNodeConfig& config)
-    : config_(config) {
+    : config_(config), positions_(config.scan_origin) {
   std::optional<GuidepointPrior> prior;
   if (!config_.prior_bundle_path.empty()) {
     try {
@@ -133,9 +135,10 @@ PriorGuidedPlannerNode::PriorGuidedPlannerNode(ros::NodeHandle nh,
   manager_.emplace(config_.exploration, std::move(prior));
   if (!config_.map_output_dir.empty()) {
     mission_map_.emplace(config_.mission_map);
-    ROS_INFO("prior_guided_planner: the mission map goes to %s at the end (service %s saves it "
-             "now)",
-             config_.map_output_dir.c_str(), nh.resolveName(topics::kSaveMap).c_str());
+    ROS_INFO(
+        "prior_guided_planner: the mission map goes to %s at the end (service %s saves it "
+        "now)",
+        config_.map_output_dir.c_str(), nh.resolveName(topics::kSaveMap).c_str());
   }
 
   target_pub_ = nh.advertise<geometry_msgs::PoseStamped>(topics::kTarget, 5);
@@ -181,6 +184,7 @@ void PriorGuidedPlannerNode::onOdometry(const nav_msgs::Odometry::ConstPtr& msg)
   pose.yaw_rad = std::atan2(r(1, 0), r(0, 0));
   if (robot_) travelled_m_ += (pos - robot_->position_world_m).norm();
   robot_ = pose;
+  positions_.add(msg->header.stamp.toSec(), pos);
   if (mission_map_) mission_map_->addPose(msg->header.stamp.toSec(), pos, pose.yaw_rad);
   last_odom_stamp_ = msg->header.stamp;
   if (!first_odom_stamp_) first_odom_stamp_ = msg->header.stamp;
@@ -203,9 +207,15 @@ void PriorGuidedPlannerNode::onScan(const sensor_msgs::PointCloud2::ConstPtr& ms
     reject(std::string("scan refused: ") + e.what());
     return;
   }
+  std::string why;
+  const std::optional<Eigen::Vector3d> origin = positions_.at(msg->header.stamp.toSec(), &why);
+  if (!origin) {
+    reject("scan ignored: the sensor position at its stamp is unknown: " + why);
+    return;
+  }
   const size_t dropped_before = manager_->inputStats().points_dropped_nonfinite;
-  manager_->insertScan(robot_->position_world_m, pts);
-  if (mission_map_) mission_map_->insertScan(robot_->position_world_m, pts);
+  manager_->insertScan(*origin, pts);
+  if (mission_map_) mission_map_->insertScan(*origin, pts);
   const size_t dropped = manager_->inputStats().points_dropped_nonfinite - dropped_before;
   if (dropped > 0)
     reject("scan: " + std::to_string(dropped) + " of " + std::to_string(pts.size()) +
@@ -301,7 +311,8 @@ bool PriorGuidedPlannerNode::saveMap(const std::string& why, std::string* messag
     reg.world_frame = config_.world_frame;
     reg.sketch_frame = config_.sketch_frame;
     try {
-      const SavedMissionMap s = mission_map_->save(config_.map_output_dir, manager_->occupancy(), reg);
+      const SavedMissionMap s =
+          mission_map_->save(config_.map_output_dir, manager_->occupancy(), reg);
       said = "mission map saved (" + why + "): " + s.cloud_pcd + " (" +
              std::to_string(s.cloud_points) + " points), " + s.occupancy_bt + " (" +
              std::to_string(s.occupied_cells) + " occupied, " + std::to_string(s.free_cells) +

@@ -20,8 +20,10 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+
 #include <cstdint>
 #include <deque>
+#include <optional>
 #include <string>
 
 namespace efs::control {
@@ -162,8 +164,12 @@ class Se3Controller {
   const Se3ControllerConfig& config() const { return cfg_; }
 
   /// One control step at time now_s (same clock as the stamps). Throws std::invalid_argument if
-  /// now_s is not finite (a broken contract, not a sensor fault).
-  ControlOutput update(const OdometryState& odom, const FlatReference& ref, double now_s);
+  /// now_s is not finite (a broken contract, not a sensor fault). `ref` is empty until a
+  /// reference has arrived: the vehicle then holds where it is. (A placeholder reference "at the
+  /// origin, stamped 0" would count as fresh for command_timeout_s after a simulated clock
+  /// starts; seen on a loaded machine: a vehicle hovering at 10 m dived 2.4 m into the floor.)
+  ControlOutput update(const OdometryState& odom, const std::optional<FlatReference>& ref,
+                       double now_s);
   /// Feeds one acceleration measurement to the hover-throttle estimate (the last commanded
   /// normalised thrust and the attitude are remembered from update()).
   void observeAcceleration(const Eigen::Vector3d& a_world_mps2,

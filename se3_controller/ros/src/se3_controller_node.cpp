@@ -181,7 +181,8 @@ void Se3ControllerNode::step(const ros::Time& now) {
     }
     return;
   }
-  const ControlOutput out = controller_.update(odom_, ref_, now.toSec());
+  const ControlOutput out = controller_.update(
+      odom_, have_ref_ ? std::optional<FlatReference>(ref_) : std::nullopt, now.toSec());
   if (out.mode != last_mode_ || out.odometry_rejected) {
     if (out.mode == ControlMode::kTracking && !out.odometry_rejected)
       ROS_INFO("se3_controller: tracking");

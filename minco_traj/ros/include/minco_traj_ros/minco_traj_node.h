@@ -19,6 +19,7 @@
 #include <string>
 #include <utility>
 
+#include "efs_common/position_history.h"
 #include "minco_traj/trajectory_server.h"
 
 namespace efs::traj {
@@ -29,6 +30,7 @@ struct MincoTrajNodeConfig {
   double odom_timeout_s = 0.2;         ///< older odometry does not drive replanning
   double look_at_distance_m = 1000.0;  ///< target orientation -> look-at point this far ahead
   double marker_dt_s = 0.05;
+  PositionHistoryConfig scan_origin;  ///< where the sensor was at each scan's stamp
   TrajectoryServerConfig server;
 };
 
@@ -65,6 +67,7 @@ class MincoTrajNode {
   mutable std::mutex state_mutex_;
   std::optional<VehicleState> state_;
   ros::Time state_stamp_;
+  PositionHistory positions_;  ///< scans are ray cast from here at their own stamps
   uint32_t trajectory_id_ = 0;
   bool goal_reached_ = false;
 

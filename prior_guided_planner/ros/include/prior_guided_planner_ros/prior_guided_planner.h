@@ -21,6 +21,7 @@
 #include <optional>
 #include <string>
 
+#include "efs_common/position_history.h"
 #include "prior_guided_planner/exploration_manager.h"
 #include "prior_guided_planner/mission_map.h"
 #include "prior_guided_planner_ros/planner_markers.h"
@@ -34,6 +35,7 @@ struct PriorGuidedPlannerNodeConfig {
   double predicted_free_spacing_m = 1.0;
   double plan_rate_hz = 2.0;
   double odom_timeout_s = 1.0;
+  PositionHistoryConfig scan_origin;  ///< where the sensor was at each scan's stamp
   PlannerMarkerOptions markers;
   ExplorationManagerConfig exploration;
   std::string map_output_dir;  ///< empty: no map is kept or saved
@@ -69,6 +71,7 @@ class PriorGuidedPlannerNode {
   bool saved_at_finish_ = false;
   std::optional<int> last_active_hypothesis_id_;  ///< the last one the guidance used
   std::optional<RobotPose> robot_;
+  PositionHistory positions_;  ///< scans are ray cast from here at their own stamps
   std::optional<ros::Time> last_odom_stamp_;
   std::optional<ros::Time> first_odom_stamp_;
   double travelled_m_ = 0.0;
