@@ -3,10 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
+#include <utility>
+#include <vector>
 
 #include "efs_common/config_check.h"
 #include "efs_common/testing/paths.h"
@@ -102,21 +106,55 @@ TEST(WorldImporters, PittsburghMineHasTheExpectedExtent) {
   EXPECT_NEAR(m.bounds().min().x(), -22.0, 0.01);
 }
 
-TEST(WorldImporters, ObjMeshIsVoxelisedWithoutGaps) {
-  // A closed 6 x 4 x 3 m room as an OBJ with a slanted roof triangle pair; rays from inside hit.
-  const std::string obj = writeFile("room.obj",
-                                    "v 0 0 0\nv 6 0 0\nv 6 4 0\nv 0 4 0\n"
-                                    "v 0 0 3\nv 6 0 3.5\nv 6 4 3.5\nv 0 4 3\n"
-                                    "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\n"
-                                    "f 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\n"
-                                    "f 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n");
-  ImportConfig cfg;
-  cfg.resolution_m = 0.1;
-  cfg.add_floor = cfg.add_ceiling = false;
-  cfg.start_clearance_m = 0.5;
-  const VoxelWorld w = importMeshWorld(obj, Eigen::Isometry3d::Identity(), cfg);
-  EXPECT_NEAR(w.bounds().sizes().x(), 6.0, 1e-9);
-  EXPECT_NEAR(w.bounds().sizes().z(), 3.5, 1e-9);
+// A closed 6 x 4 x 3 m room with a slanted roof (3 m at x = 0, 3.5 m at x = 6), as 12 triangles.
+const std::vector<Eigen::Vector3d> kRoomVertices = {{0, 0, 0}, {6, 0, 0},   {6, 4, 0},   {0, 4, 0},
+                                                    {0, 0, 3}, {6, 0, 3.5}, {6, 4, 3.5}, {0, 4, 3}};
+const std::vector<std::array<int, 3>> kRoomFaces = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7},
+                                                    {0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5},
+                                                    {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+
+std::string roomAsObj() {
+  std::ostringstream s;
+  for (const auto& v : kRoomVertices) s << "v " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
+  for (const auto& f : kRoomFaces)
+    s << "f " << f[0] + 1 << ' ' << f[1] + 1 << ' ' << f[2] + 1 << '\n';
+  return s.str();
+}
+
+std::string roomAsAsciiStl() {
+  std::ostringstream s;
+  s << "solid room\n";
+  for (const auto& f : kRoomFaces) {
+    const Eigen::Vector3d n = (kRoomVertices[f[1]] - kRoomVertices[f[0]])
+                                  .cross(kRoomVertices[f[2]] - kRoomVertices[f[0]])
+                                  .normalized();
+    s << " facet normal " << n.x() << ' ' << n.y() << ' ' << n.z() << "\n  outer loop\n";
+    for (int i : f) {
+      const auto& v = kRoomVertices[i];
+      s << "   vertex " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
+    }
+    s << "  endloop\n endfacet\n";
+  }
+  s << "endsolid room\n";
+  return s.str();
+}
+
+std::string roomAsAsciiPly() {
+  std::ostringstream s;
+  s << "ply\nformat ascii 1.0\nelement vertex " << kRoomVertices.size()
+    << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << kRoomFaces.size()
+    << "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const auto& v : kRoomVertices) s << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
+  for (const auto& f : kRoomFaces) s << "3 " << f[0] << ' ' << f[1] << ' ' << f[2] << '\n';
+  return s.str();
+}
+
+/// Rays from inside the room all hit within a voxel diagonal of one of its faces.
+void expectClosedSlantedRoom(const VoxelWorld& w, const std::string& format) {
+  SCOPED_TRACE(format);
+  EXPECT_NEAR(w.bounds().sizes().x(), 6.0, 1e-6);
+  EXPECT_NEAR(w.bounds().sizes().y(), 4.0, 1e-6);
+  EXPECT_NEAR(w.bounds().sizes().z(), 3.5, 1e-6);
   const Eigen::Vector3d o(3.0, 2.0, 1.5);
   int escaped = 0;
   for (int i = 0; i < 2000; ++i) {
@@ -126,7 +164,6 @@ TEST(WorldImporters, ObjMeshIsVoxelisedWithoutGaps) {
     escaped += !std::isfinite(r);
     if (std::isfinite(r)) {
       const Eigen::Vector3d hit = o + d * r;
-      // Every return is within a voxel diagonal of one of the room's faces.
       const double roof = 3.0 + 0.5 * hit.x() / 6.0;
       const double dist = std::min(
           {hit.x(), 6.0 - hit.x(), hit.y(), 4.0 - hit.y(), hit.z(), std::abs(roof - hit.z())});
@@ -134,6 +171,20 @@ TEST(WorldImporters, ObjMeshIsVoxelisedWithoutGaps) {
     }
   }
   EXPECT_EQ(escaped, 0);
+}
+
+ImportConfig roomImportConfig() {
+  ImportConfig cfg;
+  cfg.resolution_m = 0.1;
+  cfg.add_floor = cfg.add_ceiling = false;
+  cfg.start_clearance_m = 0.5;
+  return cfg;
+}
+
+TEST(WorldImporters, ObjMeshIsVoxelisedWithoutGaps) {
+  const std::string obj = writeFile("room.obj", roomAsObj());
+  const ImportConfig cfg = roomImportConfig();
+  expectClosedSlantedRoom(importMeshWorld(obj, Eigen::Isometry3d::Identity(), cfg), "obj");
   // A world pose moves the mesh.
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = Eigen::Vector3d(10, -5, 0);
@@ -141,6 +192,26 @@ TEST(WorldImporters, ObjMeshIsVoxelisedWithoutGaps) {
   const VoxelWorld moved = importMeshWorld(obj, T, cfg);
   EXPECT_NEAR(moved.bounds().min().x(), 6.0, 1e-9);
   EXPECT_NEAR(moved.bounds().max().y(), 1.0, 1e-9);
+}
+
+TEST(WorldImporters, StlAndPlyMeshesGiveTheSameRoomAsObj) {
+  const ImportConfig cfg = roomImportConfig();
+  const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+  const VoxelWorld obj = importMeshWorld(writeFile("room_ref.obj", roomAsObj()), I, cfg);
+  for (const auto& [name, text] :
+       {std::pair<std::string, std::string>{"room.stl", roomAsAsciiStl()},
+        {"room.ply", roomAsAsciiPly()}}) {
+    const VoxelWorld w = importMeshWorld(writeFile(name, text), I, cfg);
+    expectClosedSlantedRoom(w, name);
+    // Same triangles, same voxels: identical ray casts from a point inside.
+    for (int i = 0; i < 200; ++i) {
+      const double az = i * 0.7, el = -1.2 + 2.4 * i / 200.0;
+      const Eigen::Vector3d d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
+                              std::sin(el));
+      const Eigen::Vector3d o(1.5, 1.0, 1.0);
+      EXPECT_FLOAT_EQ(w.castRay(o, d, 20.0), obj.castRay(o, d, 20.0)) << name << " ray " << i;
+    }
+  }
 }
 
 TEST(WorldImporters, TriangleBoxOverlapIsConservativeAndExact) {
