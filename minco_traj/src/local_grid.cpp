@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "efs_common/config_check.h"
 
@@ -51,29 +52,39 @@ LocalGrid::LocalGrid(const LocalGridConfig& cfg, const Eigen::Vector3d& c) : cfg
   ny_ = static_cast<int>(std::ceil(cfg_.size_y_m / cfg_.resolution_m - 1e-6));
   nz_ = static_cast<int>(std::ceil(cfg_.size_z_m / cfg_.resolution_m - 1e-6));
   const size_t n = static_cast<size_t>(nx_) * ny_ * nz_;
-  logodds_.assign(n, 0.f);
-  observed_.assign(n, 0);
-  occupied_.assign(n, 0);
-  inflation_.assign(n, 0);
+  cells_.assign(n, Cell{});
   // At or above the inflation radius the inflation itself answers (isBlocked).
-  if (cfg_.narrow_radius_m > 0.0 && cfg_.narrow_radius_m < cfg_.inflation_radius_m)
-    narrow_inflation_.assign(n, 0);
-  scan_stamp_.assign(n, 0);
+  has_narrow_ = cfg_.narrow_radius_m > 0.0 && cfg_.narrow_radius_m < cfg_.inflation_radius_m;
   const VoxelKey ck = key(c);
-  min_key_ = {ck.x - nx_ / 2, ck.y - ny_ / 2, ck.z - nz_ / 2};
-  const int r = static_cast<int>(std::ceil(cfg_.inflation_radius_m / cfg_.resolution_m));
-  const double r2 = std::pow(cfg_.inflation_radius_m / cfg_.resolution_m, 2) + 1e-9;
-  for (int dx = -r; dx <= r; ++dx)
-    for (int dy = -r; dy <= r; ++dy)
-      for (int dz = -r; dz <= r; ++dz)
-        if (dx * dx + dy * dy + dz * dz <= r2) kernel_.push_back({dx, dy, dz});
-  const auto sq = [](const VoxelKey& o) { return o.x * o.x + o.y * o.y + o.z * o.z; };
-  std::stable_sort(kernel_.begin(), kernel_.end(),
-                   [&](const VoxelKey& a, const VoxelKey& b) { return sq(a) < sq(b); });
-  const double nr2 = std::pow(cfg_.narrow_radius_m / cfg_.resolution_m, 2) + 1e-9;
-  if (!narrow_inflation_.empty())
-    while (narrow_kernel_size_ < kernel_.size() && sq(kernel_[narrow_kernel_size_]) <= nr2)
-      ++narrow_kernel_size_;
+  setWindow({ck.x - nx_ / 2, ck.y - ny_ / 2, ck.z - nz_ / 2});
+  const double r_cells = cfg_.inflation_radius_m / cfg_.resolution_m;
+  const double r2 = r_cells * r_cells + 1e-9;
+  const double nr = !has_narrow_ ? -1.0 : cfg_.narrow_radius_m / cfg_.resolution_m;
+  const double nr2 = nr < 0.0 ? -1.0 : nr * nr + 1e-9;
+  kernel_reach_ = static_cast<int>(std::ceil(r_cells));
+  const auto half_height = [](double radius2, int planar2) {
+    if (radius2 < planar2) return -1;
+    int h = static_cast<int>(std::floor(std::sqrt(radius2 - planar2)));
+    // Guard the square root's rounding both ways: h is the largest with planar2 + h^2 <= r^2.
+    while (h > 0 && planar2 + h * h > radius2) --h;
+    while (planar2 + (h + 1) * (h + 1) <= radius2) ++h;
+    return h;
+  };
+  for (int dx = -kernel_reach_; dx <= kernel_reach_; ++dx)
+    for (int dy = -kernel_reach_; dy <= kernel_reach_; ++dy) {
+      const int planar2 = dx * dx + dy * dy;
+      const int h = half_height(r2, planar2);
+      if (h >= 0) kernel_.push_back({dx, dy, h, half_height(nr2, planar2)});
+    }
+  const size_t span = 2 * kernel_reach_ + 1;
+  stamp_slots_x_.resize(span);
+  stamp_slots_y_.resize(span);
+  stamp_slots_z_.resize(span);
+}
+
+void LocalGrid::setWindow(const VoxelKey& min_key) {
+  min_key_ = min_key;
+  phase_ = {posMod(min_key.x, nx_), posMod(min_key.y, ny_), posMod(min_key.z, nz_)};
 }
 
 Eigen::Vector3d LocalGrid::windowMin() const {
@@ -84,6 +95,25 @@ Eigen::Vector3d LocalGrid::windowMax() const {
 }
 
 namespace {
+/// Parameter interval [t0, t1] of from + t (to - from), t in [0, 1], inside the box; empty
+/// (t0 > t1) when the segment misses it.
+std::pair<double, double> clipSegment(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                                      const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  double t0 = 0.0, t1 = 1.0;
+  const Eigen::Vector3d d = to - from;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0) {
+      if (from[a] < lo[a] || from[a] > hi[a]) return {1.0, 0.0};
+      continue;
+    }
+    double ta = (lo[a] - from[a]) / d[a], tb = (hi[a] - from[a]) / d[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return {t0, t1};
+}
+
 // Key held by each slot along one axis for a window starting at min_key (slot = key mod n).
 std::vector<int> slotKeys(int min_key, int n) {
   std::vector<int> keys(n);
@@ -100,7 +130,7 @@ void LocalGrid::recenter(const Eigen::Vector3d& c) {
   const VoxelKey new_min{ck.x - nx_ / 2, ck.y - ny_ / 2, ck.z - nz_ / 2};
   if (new_min == min_key_) return;
   const VoxelKey old_min = min_key_;
-  min_key_ = new_min;
+  setWindow(new_min);
   // Each slot holds the unique key of the old window congruent to it; forget it if that key left.
   auto leaving = [](int old_lo, int new_lo, int n) {
     std::vector<uint8_t> out(n);
@@ -119,10 +149,11 @@ void LocalGrid::recenter(const Eigen::Vector3d& c) {
     for (int iy = 0; iy < ny_; ++iy)
       for (int iz = 0; iz < nz_; ++iz, ++idx)
         if (out_x[ix] || out_y[iy] || out_z[iz]) {
-          if (keep && occupied_[idx]) remember({kx[ix], ky[iy], kz[iz]}, logodds_[idx]);
-          logodds_[idx] = 0.f;
-          observed_[idx] = 0;
-          occupied_[idx] = 0;
+          Cell& cell = cells_[idx];
+          if (keep && cell.occupied) remember({kx[ix], ky[iy], kz[iz]}, cell.logodds);
+          cell.logodds = 0.f;
+          cell.observed = 0;
+          cell.occupied = 0;
         }
   if (keep) {
     cropMemory();
@@ -151,9 +182,9 @@ void LocalGrid::restoreRemembered() {
             continue;
           }
           const size_t i = index(c.key);
-          logodds_[i] = c.logodds;
-          observed_[i] = 1;
-          occupied_[i] = 1;
+          cells_[i].logodds = c.logodds;
+          cells_[i].observed = 1;
+          cells_[i].occupied = 1;
         }
         remembered_ -= cells.size() - kept;
         cells.resize(kept);
@@ -177,8 +208,7 @@ void LocalGrid::cropMemory() {
 }
 
 void LocalGrid::recomputeInflation() {
-  std::fill(inflation_.begin(), inflation_.end(), 0);
-  std::fill(narrow_inflation_.begin(), narrow_inflation_.end(), 0);
+  for (Cell& c : cells_) c.inflation = c.narrow_inflation = 0;
   // Sequential pass over the slots; keys only for the (few) occupied ones.
   const std::vector<int> kx = slotKeys(min_key_.x, nx_), ky = slotKeys(min_key_.y, ny_),
                          kz = slotKeys(min_key_.z, nz_);
@@ -186,38 +216,61 @@ void LocalGrid::recomputeInflation() {
   for (int ix = 0; ix < nx_; ++ix)
     for (int iy = 0; iy < ny_; ++iy)
       for (int iz = 0; iz < nz_; ++iz, ++idx)
-        if (occupied_[idx]) stampInflation({kx[ix], ky[iy], kz[iz]}, +1);
+        if (cells_[idx].occupied) stampInflation({kx[ix], ky[iy], kz[iz]}, +1);
 }
 
 void LocalGrid::stampInflation(const VoxelKey& k, int sign) {
-  const auto bump = [sign](uint16_t& c) {
-    c = static_cast<uint16_t>(sign > 0 ? c + 1 : (c > 0 ? c - 1 : 0));
+  // Per-axis slots of the ball's reach once, then vertical runs: the inner loop walks z, the
+  // ring buffer's contiguous axis. Called for every cell that turns occupied or free, and for
+  // every occupied cell when the window moves.
+  const int reach = kernel_reach_;
+  const auto fill = [reach](std::vector<int>& slots, int key, int min_k, int phase, int n) {
+    for (int o = -reach; o <= reach; ++o) {
+      const int kk = key + o;
+      slots[o + reach] = (kk < min_k || kk >= min_k + n) ? -1 : axisSlot(kk, min_k, phase, n);
+    }
   };
-  const bool narrow = !narrow_inflation_.empty();
-  for (size_t i = 0; i < kernel_.size(); ++i) {
-    const VoxelKey& o = kernel_[i];
-    const VoxelKey n{k.x + o.x, k.y + o.y, k.z + o.z};
-    if (!inWindow(n)) continue;
-    const size_t idx = index(n);
-    bump(inflation_[idx]);
-    if (narrow && i < narrow_kernel_size_) bump(narrow_inflation_[idx]);
+  fill(stamp_slots_x_, k.x, min_key_.x, phase_.x, nx_);
+  fill(stamp_slots_y_, k.y, min_key_.y, phase_.y, ny_);
+  fill(stamp_slots_z_, k.z, min_key_.z, phase_.z, nz_);
+  const bool narrow = has_narrow_;
+  const int* sz = stamp_slots_z_.data() + reach;
+  for (const KernelColumn& col : kernel_) {
+    const int sx = stamp_slots_x_[col.dx + reach], sy = stamp_slots_y_[col.dy + reach];
+    if (sx < 0 || sy < 0) continue;
+    const size_t base = (static_cast<size_t>(sx) * ny_ + sy) * nz_;
+    Cell* column = cells_.data() + base;
+    for (int dz = -col.half_height; dz <= col.half_height; ++dz) {
+      const int z = sz[dz];
+      if (z < 0) continue;
+      Cell& c = column[z];
+      const bool in_narrow = narrow && std::abs(dz) <= col.narrow_half_height;
+      if (sign > 0) {
+        ++c.inflation;
+        if (in_narrow) ++c.narrow_inflation;
+      } else {
+        if (c.inflation > 0) --c.inflation;
+        if (in_narrow && c.narrow_inflation > 0) --c.narrow_inflation;
+      }
+    }
   }
 }
 
 void LocalGrid::updateCell(size_t idx, const VoxelKey& k, float delta) {
-  const bool was_occ = observed_[idx] && logodds_[idx] > cfg_.logodds_occupied;
-  observed_[idx] = 1;
-  logodds_[idx] = std::clamp(logodds_[idx] + delta, static_cast<float>(cfg_.logodds_min),
-                             static_cast<float>(cfg_.logodds_max));
-  const bool is_occ = logodds_[idx] > cfg_.logodds_occupied;
-  occupied_[idx] = is_occ;
+  Cell& c = cells_[idx];
+  const bool was_occ = c.observed && c.logodds > cfg_.logodds_occupied;
+  c.observed = 1;
+  c.logodds = std::clamp(c.logodds + delta, static_cast<float>(cfg_.logodds_min),
+                         static_cast<float>(cfg_.logodds_max));
+  const bool is_occ = c.logodds > cfg_.logodds_occupied;
+  c.occupied = is_occ;
   if (is_occ != was_occ) stampInflation(k, is_occ ? +1 : -1);
 }
 
 void LocalGrid::insertScan(const Eigen::Vector3d& origin,
                            const std::vector<Eigen::Vector3d>& points) {
   if (++scan_id_ == 0) {  // wrapped: reset stamps so that old ones cannot collide
-    std::fill(scan_stamp_.begin(), scan_stamp_.end(), 0);
+    for (Cell& c : cells_) c.scan_stamp = 0;
     scan_id_ = 1;
   }
   const double res = cfg_.resolution_m;
@@ -227,12 +280,12 @@ void LocalGrid::insertScan(const Eigen::Vector3d& origin,
     const VoxelKey k = key(p);
     if (!inWindow(k)) continue;
     const size_t idx = index(k);
-    if (scan_stamp_[idx] == scan_id_) continue;
-    scan_stamp_[idx] = scan_id_;
+    if (cells_[idx].scan_stamp == scan_id_) continue;
+    cells_[idx].scan_stamp = scan_id_;
     float delta = static_cast<float>(cfg_.logodds_hit);
     if (cfg_.hit_overrides_free) {
-      delta = std::max(
-          delta, static_cast<float>(cfg_.logodds_occupied + cfg_.logodds_hit) - logodds_[idx]);
+      delta = std::max(delta, static_cast<float>(cfg_.logodds_occupied + cfg_.logodds_hit) -
+                                  cells_[idx].logodds);
     }
     updateCell(idx, k, delta);
   }
@@ -249,6 +302,8 @@ void LocalGrid::insertScan(const Eigen::Vector3d& origin,
     ray_bins_.emplace_back(bin, i);
   }
   std::sort(ray_bins_.begin(), ray_bins_.end());
+  const Eigen::Vector3d margin = Eigen::Vector3d::Constant(res);
+  const Eigen::Vector3d window_lo = windowMin() - margin, window_hi = windowMax() + margin;
   for (size_t r = 0; r < ray_bins_.size(); ++r) {
     if (r > 0 && ray_bins_[r].first == ray_bins_[r - 1].first) continue;
     const Eigen::Vector3d& p = points[ray_bins_[r].second];
@@ -256,15 +311,21 @@ void LocalGrid::insertScan(const Eigen::Vector3d& origin,
     const double len = (p - origin).norm();
     if (len > cfg_.max_ray_length_m) end = origin + (p - origin) * (cfg_.max_ray_length_m / len);
     const VoxelKey end_key = key(end);
-    traverseCells(origin, end, res, [&](const VoxelKey& k) {
+    // Only the part of the ray inside the window changes cells: long rays used to walk on
+    // through tens of metres of cells outside it. A cell of margin keeps the boundary cells.
+    const auto [t0, t1] = clipSegment(origin, end, window_lo, window_hi);
+    if (t0 > t1) continue;
+    const Eigen::Vector3d from = t0 > 0.0 ? Eigen::Vector3d(origin + t0 * (end - origin)) : origin;
+    if (t1 < 1.0) end = origin + t1 * (end - origin);
+    traverseCells(from, end, res, [&](const VoxelKey& k) {
       if (k == end_key) return false;
       if (!inWindow(k)) return true;  // the origin may be outside; keep walking inwards
       const size_t idx = index(k);
-      if (scan_stamp_[idx] == scan_id_) return true;
-      scan_stamp_[idx] = scan_id_;
-      updateCell(
-          idx, k,
-          static_cast<float>(occupied_[idx] ? cfg_.logodds_miss_occupied : cfg_.logodds_miss));
+      if (cells_[idx].scan_stamp == scan_id_) return true;
+      cells_[idx].scan_stamp = scan_id_;
+      updateCell(idx, k,
+                 static_cast<float>(cells_[idx].occupied ? cfg_.logodds_miss_occupied
+                                                         : cfg_.logodds_miss));
       return true;
     });
   }
@@ -274,50 +335,50 @@ void LocalGrid::setOccupied(const Eigen::Vector3d& p) {
   const VoxelKey k = key(p);
   if (!inWindow(k)) return;
   const size_t idx = index(k);
-  updateCell(idx, k, static_cast<float>(cfg_.logodds_max - logodds_[idx]));
+  updateCell(idx, k, static_cast<float>(cfg_.logodds_max - cells_[idx].logodds));
 }
 
 void LocalGrid::setFree(const Eigen::Vector3d& p) {
   const VoxelKey k = key(p);
   if (!inWindow(k)) return;
   const size_t idx = index(k);
-  updateCell(idx, k, static_cast<float>(cfg_.logodds_min - logodds_[idx]));
+  updateCell(idx, k, static_cast<float>(cfg_.logodds_min - cells_[idx].logodds));
 }
 
 void LocalGrid::setAllFree() {
-  std::fill(logodds_.begin(), logodds_.end(), static_cast<float>(cfg_.logodds_min));
-  std::fill(observed_.begin(), observed_.end(), 1);
-  std::fill(occupied_.begin(), occupied_.end(), 0);
-  std::fill(inflation_.begin(), inflation_.end(), 0);
-  std::fill(narrow_inflation_.begin(), narrow_inflation_.end(), 0);
+  for (Cell& c : cells_) {
+    c.logodds = static_cast<float>(cfg_.logodds_min);
+    c.observed = 1;
+    c.occupied = 0;
+    c.inflation = c.narrow_inflation = 0;
+  }
 }
 
 CellState LocalGrid::state(const VoxelKey& k) const {
   if (!inWindow(k)) return CellState::kOutside;
-  const size_t idx = index(k);
-  if (!observed_[idx]) return CellState::kUnknown;
-  return logodds_[idx] > cfg_.logodds_occupied ? CellState::kOccupied : CellState::kFree;
+  const Cell& c = cells_[index(k)];
+  if (!c.observed) return CellState::kUnknown;
+  return c.logodds > cfg_.logodds_occupied ? CellState::kOccupied : CellState::kFree;
 }
 
 bool LocalGrid::isInflated(const VoxelKey& k) const {
-  return inWindow(k) && inflation_[index(k)] > 0;
+  return inWindow(k) && cells_[index(k)].inflation > 0;
 }
 
 bool LocalGrid::isBlocked(const VoxelKey& k, bool unknown_is_free,
                           double narrow_clearance_m) const {
   if (!inWindow(k)) return true;
-  const size_t idx = index(k);
-  if (inflation_[idx] > 0) {
-    if (narrow_clearance_m <= 0.0 || narrow_clearance_m >= cfg_.inflation_radius_m ||
-        occupied_[idx])
+  const Cell& c = cells_[index(k)];
+  if (c.inflation > 0) {
+    if (narrow_clearance_m <= 0.0 || narrow_clearance_m >= cfg_.inflation_radius_m || c.occupied)
       return true;
-    if (!narrow_inflation_.empty() && std::abs(narrow_clearance_m - cfg_.narrow_radius_m) < 1e-9) {
-      if (narrow_inflation_[idx] > 0) return true;
+    if (has_narrow_ && std::abs(narrow_clearance_m - cfg_.narrow_radius_m) < 1e-9) {
+      if (c.narrow_inflation > 0) return true;
     } else if (nearestOccupiedDistance(center(k), narrow_clearance_m)) {
       return true;
     }
   }
-  return !unknown_is_free && !observed_[idx];
+  return !unknown_is_free && !c.observed;
 }
 
 bool LocalGrid::isInterior(const VoxelKey& k) const {
@@ -325,7 +386,7 @@ bool LocalGrid::isInterior(const VoxelKey& k) const {
                                  {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
   for (const auto& o : kOff) {
     const VoxelKey n{k.x + o[0], k.y + o[1], k.z + o[2]};
-    if (!inWindow(n) || !occupied_[index(n)]) return false;
+    if (!inWindow(n) || !cells_[index(n)].occupied) return false;
   }
   return true;
 }
@@ -347,7 +408,7 @@ void LocalGrid::occupiedCentersInBox(const Eigen::Vector3d& lo, const Eigen::Vec
       const size_t base = (static_cast<size_t>(posMod(x, nx_)) * ny_ + posMod(y, ny_)) * nz_;
       int iz = iz0;
       for (int z = z0; z <= z1; ++z) {
-        if (occupied_[base + iz]) {
+        if (cells_[base + iz].occupied) {
           const VoxelKey k{x, y, z};
           if (!surface_only || !isInterior(k)) out.push_back(center(k));
         }
@@ -366,7 +427,7 @@ std::optional<double> LocalGrid::nearestOccupiedDistance(const Eigen::Vector3d& 
     for (int dy = -r; dy <= r; ++dy)
       for (int dz = -r; dz <= r; ++dz) {
         const VoxelKey k{c.x + dx, c.y + dy, c.z + dz};
-        if (!inWindow(k) || !occupied_[index(k)]) continue;
+        if (!inWindow(k) || !cells_[index(k)].occupied) continue;
         const double d_sq = (center(k) - p).squaredNorm();
         if (d_sq <= best_sq) {
           best_sq = d_sq;
@@ -379,7 +440,7 @@ std::optional<double> LocalGrid::nearestOccupiedDistance(const Eigen::Vector3d& 
 
 size_t LocalGrid::occupiedCount() const {
   size_t n = 0;
-  for (uint8_t o : occupied_) n += o;
+  for (const Cell& c : cells_) n += c.occupied;
   return n;
 }
 

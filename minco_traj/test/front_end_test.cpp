@@ -1,6 +1,8 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <queue>
 #include <random>
 #include <unordered_map>
@@ -222,6 +224,85 @@ TEST(LocalGrid, NarrowLayerAgreesWithTheSearchAround) {
   EXPECT_EQ(differ, 0);
   EXPECT_GT(narrow_free, 0);  // the narrow search does open cells the full clearance blocks
   EXPECT_GT(wide_blocked, 0);
+}
+
+// Both inflation layers, kept incrementally while cells turn occupied and free and the window
+// moves (with wrap-around of the ring buffer at negative keys), against a brute-force distance
+// check of every cell to every occupied cell.
+TEST(LocalGrid, InflationLayersMatchBruteForceAfterUpdatesAndMoves) {
+  LocalGridConfig cfg = smallGrid(0.45);
+  cfg.narrow_radius_m = 0.36;
+  LocalGrid g(cfg, Eigen::Vector3d(0, 0, 0.3));
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-3.0, 3.0), uz(-0.2, 0.8);
+  std::vector<Eigen::Vector3d> placed;
+  int checked_moves = 0;
+  for (const Eigen::Vector3d& c :
+       {Eigen::Vector3d(0, 0, 0.3), Eigen::Vector3d(-0.8, 0.5, 0.3),
+        Eigen::Vector3d(-1.7, -1.1, 0.0), Eigen::Vector3d(0.9, -2.3, 0.5),
+        Eigen::Vector3d(0.2, 0.1, 0.3)}) {
+    g.recenter(c);
+    for (int i = 0; i < 40; ++i) {
+      const Eigen::Vector3d p(c.x() + 0.5 * u(rng), c.y() + 0.5 * u(rng), uz(rng));
+      g.setOccupied(p);
+      placed.push_back(p);
+    }
+    for (int i = 0; i < 10; ++i) g.setFree(placed[(placed.size() * 7 + i * 13) % placed.size()]);
+    std::vector<Eigen::Vector3d> occ;
+    g.occupiedCentersInBox(g.windowMin(), g.windowMax(), occ);
+    ASSERT_FALSE(occ.empty());
+    const VoxelKey lo = g.minKey(), hi = g.maxKey();
+    int inflated = 0, narrow_open = 0;
+    for (int x = lo.x; x <= hi.x; ++x)
+      for (int y = lo.y; y <= hi.y; ++y)
+        for (int z = lo.z; z <= hi.z; ++z) {
+          const VoxelKey k{x, y, z};
+          double d2 = std::numeric_limits<double>::infinity();
+          for (const auto& o : occ) d2 = std::min(d2, (o - g.center(k)).squaredNorm());
+          const bool full = d2 <= 0.45 * 0.45 + 1e-9, narrow = d2 <= 0.36 * 0.36 + 1e-9;
+          ASSERT_EQ(g.isInflated(k), full) << x << " " << y << " " << z;
+          ASSERT_EQ(g.isBlocked(k, true, 0.36), narrow) << x << " " << y << " " << z;
+          inflated += full;
+          narrow_open += full && !narrow;
+        }
+    EXPECT_GT(inflated, 0);
+    EXPECT_GT(narrow_open, 0);
+    ++checked_moves;
+  }
+  EXPECT_EQ(checked_moves, 5);
+}
+
+// Rays are cut to the window: a small window sees exactly the cells a large one sees inside it,
+// from a sensor inside it and from one outside it, with rays far longer than the window.
+TEST(LocalGrid, SmallWindowAgreesWithALargeOneInsideIt) {
+  LocalGridConfig small = smallGrid(0.2), large = smallGrid(0.2);
+  large.size_x_m = large.size_y_m = 40.0;
+  large.size_z_m = 6.0;
+  small.size_z_m = 2.0;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> ang(-M_PI, M_PI), el(-0.4, 0.4), range(2.0, 18.0);
+  for (const Eigen::Vector3d& sensor :
+       {Eigen::Vector3d(0.3, -0.2, 0.5), Eigen::Vector3d(4, 3, 0.5)}) {
+    LocalGrid a(small, Eigen::Vector3d(0, 0, 0.5)), b(large, Eigen::Vector3d(0, 0, 0.5));
+    std::vector<Eigen::Vector3d> scan;
+    for (int i = 0; i < 3000; ++i) {
+      const double az = ang(rng), e = el(rng), r = range(rng);
+      scan.push_back(sensor + r * Eigen::Vector3d(std::cos(e) * std::cos(az),
+                                                  std::cos(e) * std::sin(az), std::sin(e)));
+    }
+    a.insertScan(sensor, scan);
+    b.insertScan(sensor, scan);
+    const VoxelKey lo = a.minKey(), hi = a.maxKey();
+    int observed = 0;
+    for (int x = lo.x; x <= hi.x; ++x)
+      for (int y = lo.y; y <= hi.y; ++y)
+        for (int z = lo.z; z <= hi.z; ++z) {
+          const VoxelKey k{x, y, z};
+          ASSERT_EQ(a.state(k), b.state(k)) << x << " " << y << " " << z;
+          observed += a.state(k) != CellState::kUnknown;
+        }
+    EXPECT_GT(observed, 100);
+  }
 }
 
 TEST(LocalGrid, ConfigValidationNamesKey) {

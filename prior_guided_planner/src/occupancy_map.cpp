@@ -15,6 +15,7 @@ void OccupancyConfig::validate() const {
   // Log-odds are stored as int8 in steps of 0.05: +-6.35 is the representable span.
   requireInRange("occupancy.log_odds_hit", log_odds_hit, 0.05, 6.0);
   requireInRange("occupancy.log_odds_miss", log_odds_miss, -6.0, -0.05);
+  requireInRange("occupancy.log_odds_miss_occupied", log_odds_miss_occupied, -6.0, -0.05);
   requireInRange("occupancy.log_odds_min", log_odds_min, -6.3, 0.0);
   requireInRange("occupancy.log_odds_max", log_odds_max, 0.0, 6.3);
   requireInRange("occupancy.log_odds_occupied", log_odds_occupied, log_odds_min, log_odds_max);
@@ -51,6 +52,7 @@ OccupancyMap::OccupancyMap(OccupancyConfig config) : config_(config) {
   auto q = [](double v) { return static_cast<int>(std::lround(v / kQuantum)); };
   hit_q_ = q(config_.log_odds_hit);
   miss_q_ = q(config_.log_odds_miss);
+  miss_occupied_q_ = q(config_.log_odds_miss_occupied);
   min_q_ = q(config_.log_odds_min);
   max_q_ = q(config_.log_odds_max);
   occupied_q_ = q(config_.log_odds_occupied);
@@ -74,12 +76,21 @@ void OccupancyMap::updateCell(Block& b, const VoxelKey& block_key, const VoxelKe
   const OccupancyState before = classify(c.log_odds);
   int v = c.log_odds == kUnknownValue ? 0 : c.log_odds;
   if (before == OccupancyState::kUnknown) ++known_cells_;
-  v = std::clamp(v + (hit ? hit_q_ : miss_q_), min_q_, max_q_);
+  const int miss = before == OccupancyState::kOccupied ? miss_occupied_q_ : miss_q_;
+  v = std::clamp(v + (hit ? hit_q_ : miss), min_q_, max_q_);
   c.log_odds = static_cast<int8_t>(v);
   const OccupancyState after = classify(c.log_odds);
   if (after != before) {
     if (after == OccupancyState::kFree) last_added_free_ = true;
     if (after == OccupancyState::kOccupied) last_added_occupied_ = true;
+    if (changes_listed_) {
+      if (changed_cells_.size() < kMaxListedChanges) {
+        changed_cells_.push_back({cell, before, after});
+      } else {
+        changes_listed_ = false;
+        changed_cells_.clear();
+      }
+    }
     if (b.changed_stamp != scan_stamp_) {
       b.changed_stamp = scan_stamp_;
       changed_blocks_.push_back(block_key);
@@ -92,6 +103,8 @@ OccupancyUpdateStats OccupancyMap::insertScan(const Eigen::Vector3d& origin,
   OccupancyUpdateStats st;
   st.points_in = points.size();
   changed_blocks_.clear();
+  changed_cells_.clear();
+  changes_listed_ = true;
   last_added_free_ = last_added_occupied_ = false;
   if (!origin.allFinite()) {
     st.rejected_scan = true;
@@ -163,7 +176,8 @@ bool OccupancyMap::isSafe(const Eigen::Vector3d& p, double radius_m, bool unknow
   const OccupancyState c = stateAt(p);
   if (c == OccupancyState::kOccupied) return false;
   if (c == OccupancyState::kUnknown && !unknown_is_safe) return false;
-  return allCellsInBall(p, radius_m, [](OccupancyState s) { return s != OccupancyState::kOccupied; });
+  return allCellsInBall(p, radius_m,
+                        [](OccupancyState s) { return s != OccupancyState::kOccupied; });
 }
 
 bool OccupancyMap::isKnownFree(const Eigen::Vector3d& p, double radius_m) const {

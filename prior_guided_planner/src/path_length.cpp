@@ -33,7 +33,8 @@ enum : uint8_t { kUntested = 0, kTraversable = 1, kBlocked = 2, kNarrow = 8 };
 
 /// Sub-point i of a node: the centre of one octant of its cube.
 Eigen::Vector3d subOffset(int i, double s) {
-  return 0.25 * s * Eigen::Vector3d((i & 1) ? 1.0 : -1.0, (i & 2) ? 1.0 : -1.0, (i & 4) ? 1.0 : -1.0);
+  return 0.25 * s *
+         Eigen::Vector3d((i & 1) ? 1.0 : -1.0, (i & 2) ? 1.0 : -1.0, (i & 4) ? 1.0 : -1.0);
 }
 
 struct Offsets {
@@ -64,6 +65,21 @@ using OpenQueue = std::priority_queue<QItem, std::vector<QItem>, std::greater<QI
 
 bool keyLess(const VoxelKey& x, const VoxelKey& y) {
   return std::tie(x.x, x.y, x.z) < std::tie(y.x, y.y, y.z);
+}
+
+double distanceToSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                         const Eigen::Vector3d& b) {
+  const Eigen::Vector3d d = b - a;
+  const double len2 = d.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * d - p).norm();
+}
+
+/// Whether some leg of the polyline passes within `reach` of p.
+bool polylineWithin(const std::vector<Eigen::Vector3d>& w, const Eigen::Vector3d& p, double reach) {
+  for (size_t i = 0; i + 1 < w.size(); ++i)
+    if (distanceToSegment(p, w[i], w[i + 1]) <= reach) return true;
+  return false;
 }
 
 double pathLength(const std::vector<Eigen::Vector3d>& path) {
@@ -184,8 +200,12 @@ void PathSearch::syncWithLastScan() {
     ensureCurrent();
     return;
   }
-  ++label_epoch_;  // any change may join or split components
   memo_revision_ = rev;
+  if (occ_.lastChangesListed()) {
+    syncWithChangedCells();
+    return;
+  }
+  ++label_epoch_;  // any change may join or split components
   // A node's test reads the cells of its ball: retest the nodes whose centre lies within the
   // radius (plus a cell for rounding) of a changed block's box.
   const double s = config_.search_resolution_m;
@@ -198,20 +218,92 @@ void PathSearch::syncWithLastScan() {
         Eigen::Vector3d(b.x, b.y, b.z) * block_m - Eigen::Vector3d::Constant(grow);
     const Eigen::Vector3d hi =
         Eigen::Vector3d(b.x + 1, b.y + 1, b.z + 1) * block_m + Eigen::Vector3d::Constant(grow);
-    const VoxelKey klo = toVoxelKey(lo, s), khi = toVoxelKey(hi, s);
-    for (int32_t z = klo.z; z <= khi.z; ++z)
-      for (int32_t y = klo.y; y <= khi.y; ++y)
-        for (int32_t x = klo.x; x <= khi.x; ++x) {
-          const VoxelKey k{x, y, z};
-          const VoxelKey ck{x >> kChunkBits, y >> kChunkBits, z >> kChunkBits};
-          auto it = chunks_.find(ck);
-          if (it == chunks_.end()) continue;
-          const int m = kChunkSize - 1;
-          const int i = (k.x & m) | ((k.y & m) << kChunkBits) | ((k.z & m) << (2 * kChunkBits));
-          it->second->trav[i] = kUntested;
-          it->second->edge_ok[i] = it->second->edge_bad[i] = 0;
-        }
+    forEachMemoisedNode(lo, hi, [](Chunk& c, int i, const VoxelKey&) {
+      c.trav[i] = kUntested;
+      c.edge_ok[i] = c.edge_bad[i] = 0;
+    });
   }
+}
+
+template <typename F>
+void PathSearch::forEachMemoisedNode(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, F&& f) {
+  const double s = config_.search_resolution_m;
+  const VoxelKey klo = toVoxelKey(lo, s), khi = toVoxelKey(hi, s);
+  const int m = kChunkSize - 1;
+  for (int32_t z = klo.z; z <= khi.z; ++z)
+    for (int32_t y = klo.y; y <= khi.y; ++y)
+      for (int32_t x = klo.x; x <= khi.x; ++x) {
+        const auto it = chunks_.find({x >> kChunkBits, y >> kChunkBits, z >> kChunkBits});
+        if (it == chunks_.end()) continue;
+        const int i = (x & m) | ((y & m) << kChunkBits) | ((z & m) << (2 * kChunkBits));
+        if (it->second->trav[i] != kUntested) f(*it->second, i, VoxelKey{x, y, z});
+      }
+}
+
+// The few dozen cells a scan of a mapped place changes (surface cells a partly filled voxel
+// keeps flipping) used to invalidate every node and every component label within metres of
+// their blocks, so the next plan flood-filled the whole lattice again. Here the memoised nodes
+// whose tests read a changed cell are tested again at once, the memoised narrow edges that pass
+// near one are checked again, and the component labels are dropped only when an answer changed.
+void PathSearch::syncWithChangedCells() {
+  const double s = config_.search_resolution_m;
+  const double half_cell = 0.5 * std::sqrt(3.0) * occ_.resolution();
+  // A node's test reads the cells whose box meets its ball, or a narrow sub-point's ball.
+  const double sub_reach =
+      config_.narrow_radius_m > 0.0 ? config_.narrow_radius_m + 0.25 * std::sqrt(3.0) * s : 0.0;
+  const double node_reach = std::max(config_.vehicle_radius_m, sub_reach) + half_cell;
+  // A memoised edge joins two neighbours' positions (sub-points at most a quarter step out).
+  const double edge_reach = config_.narrow_radius_m + 1.25 * std::sqrt(3.0) * s + half_cell;
+  const Eigen::Vector3d node_grow = Eigen::Vector3d::Constant(node_reach);
+  const Eigen::Vector3d edge_grow = Eigen::Vector3d::Constant(edge_reach);
+  const auto& changes = occ_.lastChangedCells();
+  bool changed = false;
+  for (const CellChange& c : changes) {
+    const Eigen::Vector3d p = occ_.center(c.cell);
+    forEachMemoisedNode(p - node_grow, p + node_grow, [&](Chunk& ch, int i, const VoxelKey& k) {
+      if ((center(k) - p).norm() > node_reach) return;
+      const uint8_t before = ch.trav[i];
+      ch.trav[i] = kUntested;
+      traversable(Slot{&ch, i}, k);
+      changed = changed || ch.trav[i] != before;
+    });
+  }
+  if (changed) {
+    // Positions moved or nodes came and went: the edges around are tested again when used.
+    for (const CellChange& c : changes) {
+      const Eigen::Vector3d p = occ_.center(c.cell);
+      forEachMemoisedNode(p - edge_grow, p + edge_grow, [](Chunk& ch, int i, const VoxelKey&) {
+        ch.edge_ok[i] = ch.edge_bad[i] = 0;
+      });
+    }
+    ++label_epoch_;
+    return;
+  }
+  const Offsets& o = offsets26();
+  const double segment_reach = config_.narrow_radius_m + half_cell;
+  for (const CellChange& c : changes) {
+    const Eigen::Vector3d p = occ_.center(c.cell);
+    forEachMemoisedNode(p - edge_grow, p + edge_grow, [&](Chunk& ch, int i, const VoxelKey& k) {
+      const uint32_t memo = ch.edge_ok[i] | ch.edge_bad[i];
+      if (!memo) return;
+      const Slot sk{&ch, i};
+      const Eigen::Vector3d pa = nodePosition(sk, k);
+      for (int d = 0; d < 26; ++d) {
+        const uint32_t bit = 1u << d;
+        if (!(memo & bit)) continue;
+        const VoxelKey n{k.x + o.d[d].x, k.y + o.d[d].y, k.z + o.d[d].z};
+        const Eigen::Vector3d pb = nodePosition(slot(n), n);
+        if (distanceToSegment(p, pa, pb) > segment_reach) continue;
+        const bool ok =
+            segmentSafe(pa, pb, config_.narrow_radius_m, config_.unknown_is_traversable);
+        if (ok == static_cast<bool>(ch.edge_ok[i] & bit)) continue;
+        ch.edge_ok[i] = ok ? (ch.edge_ok[i] | bit) : (ch.edge_ok[i] & ~bit);
+        ch.edge_bad[i] = ok ? (ch.edge_bad[i] & ~bit) : (ch.edge_bad[i] | bit);
+        changed = true;
+      }
+    });
+  }
+  if (changed) ++label_epoch_;
 }
 
 // Connected component of a traversable node (0 when blocked): flood fills the whole component
@@ -529,8 +621,7 @@ std::vector<PathSearchResult> PathSearch::searchFrom(const Eigen::Vector3d& a,
     std::vector<std::optional<VoxelKey>> best_node(targets.size());
     wide_only_ = wide_only;
     const SearchStats st = bestFirst(
-        phase_starts, [](const VoxelKey&) { return 0.0; },
-        [&](double) { return goals_left == 0; },
+        phase_starts, [](const VoxelKey&) { return 0.0; }, [&](double) { return goals_left == 0; },
         [&](const VoxelKey& k, double g) {
           auto lo = std::lower_bound(
               goals.begin(), goals.end(), k,
@@ -616,6 +707,19 @@ void PathLengthCache::store(uint64_t id_a, const Eigen::Vector3d& a, uint64_t id
   }
   e.block_lo = {lo.x - 1, lo.y - 1, lo.z - 1};
   e.block_hi = {hi.x + 1, hi.y + 1, hi.z + 1};
+  // Cells that can matter lie within the shortcut reach of pathNear (cells) of the path.
+  const int grow = static_cast<int>(std::ceil(
+                       (search_.config().vehicle_radius_m + search_.config().search_resolution_m) /
+                       occ_.resolution())) +
+                   1;
+  VoxelKey clo = occ_.key(a), chi = clo;
+  for (const Eigen::Vector3d& w : e.path_world_m) {
+    const VoxelKey k = occ_.key(w);
+    clo = {std::min(clo.x, k.x), std::min(clo.y, k.y), std::min(clo.z, k.z)};
+    chi = {std::max(chi.x, k.x), std::max(chi.y, k.y), std::max(chi.z, k.z)};
+  }
+  e.cell_lo = {clo.x - grow, clo.y - grow, clo.z - grow};
+  e.cell_hi = {chi.x + grow, chi.y + grow, chi.z + grow};
   entries_[orderedKey(id_a, id_b)] = std::move(e);
 }
 
@@ -664,12 +768,25 @@ bool PathLengthCache::pathNear(const Entry& e, const std::vector<VoxelKey>& bloc
       continue;
     const Eigen::Vector3d m =
         (Eigen::Vector3d(c.x, c.y, c.z) + Eigen::Vector3d::Constant(0.5)) * block_m;
-    for (size_t i = 0; i + 1 < w.size(); ++i) {
-      const Eigen::Vector3d d = w[i + 1] - w[i];
-      const double len2 = d.squaredNorm();
-      const double t = len2 > 0.0 ? std::clamp((m - w[i]).dot(d) / len2, 0.0, 1.0) : 0.0;
-      if ((w[i] + t * d - m).norm() <= reach) return true;
-    }
+    if (polylineWithin(w, m, reach)) return true;
+  }
+  return false;
+}
+
+// Whether a changed cell can matter to the entry's path: a cell that turned occupied within the
+// vehicle radius of a leg may block it; one that turned free within the radius plus a lattice
+// step may open a shortcut (the same reach as the block test, at the cell's own place).
+bool PathLengthCache::pathNear(const Entry& e, const std::vector<CellChange>& cells) const {
+  const double half_cell = 0.5 * std::sqrt(3.0) * occ_.resolution();
+  const double block_reach = search_.config().vehicle_radius_m + half_cell;
+  const double open_reach = block_reach + search_.config().search_resolution_m;
+  const std::vector<Eigen::Vector3d>& w = e.path_world_m;
+  for (const CellChange& c : cells) {
+    if (c.cell.x < e.cell_lo.x || c.cell.x > e.cell_hi.x || c.cell.y < e.cell_lo.y ||
+        c.cell.y > e.cell_hi.y || c.cell.z < e.cell_lo.z || c.cell.z > e.cell_hi.z)
+      continue;
+    const double reach = c.after == OccupancyState::kOccupied ? block_reach : open_reach;
+    if (polylineWithin(w, occ_.center(c.cell), reach)) return true;
   }
   return false;
 }
@@ -687,10 +804,13 @@ void PathLengthCache::sync() {
   }
   synced_revision_ = rev;
   const auto& changed = occ_.lastChangedBlocks();
+  const bool listed = occ_.lastChangesListed();
   const bool added_free = occ_.lastScanAddedFree();
   for (auto it = entries_.begin(); it != entries_.end();) {
     const Entry& e = it->second;
-    const bool drop = e.length_m ? pathNear(e, changed) : added_free;
+    const bool drop = !e.length_m ? added_free
+                      : listed    ? pathNear(e, occ_.lastChangedCells())
+                                  : pathNear(e, changed);
     if (drop) {
       ++stats_.invalidated;
       it = entries_.erase(it);

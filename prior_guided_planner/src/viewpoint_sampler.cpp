@@ -62,6 +62,7 @@ void ViewpointConfig::validate() const {
   requireInRange("viewpoint.min_visible_cells", min_visible_cells, 1, 100000);
   requireInRange("viewpoint.max_viewpoints_per_cluster", max_viewpoints_per_cluster, 1, 100);
   requireInRange("viewpoint.min_viewpoint_separation_m", min_viewpoint_separation_m, 0.0, 100.0);
+  requireInRange("viewpoint.reuse_distance_m", reuse_distance_m, 0.0, 10.0);
 }
 
 ViewpointSampler::ViewpointSampler(ViewpointConfig config, LidarFovConfig fov)
@@ -186,24 +187,48 @@ std::vector<Viewpoint> ViewpointSampler::sample(const FrontierCluster& cluster, 
 
 ViewpointManager::ViewpointManager(ViewpointSampler sampler) : sampler_(std::move(sampler)) {}
 
+void ViewpointManager::retire(std::map<int, std::vector<Viewpoint>>::iterator it) {
+  retired_.insert(retired_.end(), it->second.begin(), it->second.end());
+  by_cluster_.erase(it);
+}
+
+void ViewpointManager::assignId(Viewpoint& v, const OccupancyMap& occ) {
+  const double reuse = sampler_.config().reuse_distance_m;
+  auto best = retired_.end();
+  double best_d = reuse;
+  for (auto it = retired_.begin(); it != retired_.end(); ++it) {
+    const double d = (it->position_world_m - v.position_world_m).norm();
+    if (d <= best_d) best_d = d, best = it;
+  }
+  if (best != retired_.end() && sampler_.viewpointSafe(occ, best->position_world_m)) {
+    v.id = best->id;
+    v.position_world_m = best->position_world_m;
+    retired_.erase(best);
+    return;
+  }
+  v.id = next_id_++;
+}
+
 void ViewpointManager::resample(const FrontierCluster& c, const OccupancyMap& occ, double res) {
-  by_cluster_.erase(c.id);
+  if (auto it = by_cluster_.find(c.id); it != by_cluster_.end()) retire(it);
   sampled_.insert(c.id);
   if (c.too_small) return;
   std::vector<Viewpoint> vps = sampler_.sample(c, res, occ);
   if (vps.empty()) return;
-  for (Viewpoint& v : vps) v.id = next_id_++;
+  for (Viewpoint& v : vps) assignId(v, occ);
   by_cluster_[c.id] = std::move(vps);
 }
 
 ViewpointUpdateStats ViewpointManager::update(const FrontierClusterer& clusterer,
                                               const OccupancyMap& occ, double res) {
   ViewpointUpdateStats st;
+  retired_.clear();
   const auto& clusters = clusterer.clusters();
-  // Drop what belongs to clusters that are gone (changed clusters come back under a new id).
+  // Drop what belongs to clusters that are gone (changed clusters come back under a new id, and
+  // their viewpoints, where they land again, under the old ids).
   for (auto it = sampled_.begin(); it != sampled_.end();) {
     if (!clusters.count(*it)) {
-      by_cluster_.erase(*it);
+      if (auto vit = by_cluster_.find(*it); vit != by_cluster_.end()) retire(vit);
       it = sampled_.erase(it);
     } else {
       ++it;
@@ -228,6 +253,7 @@ ViewpointUpdateStats ViewpointManager::update(const FrontierClusterer& clusterer
       ++st.clusters_rechecked;
     }
   }
+  retired_.clear();
   for (const auto& [id, c] : clusters) {
     (void)c;
     if (!by_cluster_.count(id)) ++st.clusters_without_viewpoint;

@@ -42,13 +42,41 @@ TEST(OccupancyMap, RepeatedMissesClearAnOccupiedCell) {
   OccupancyMap m;
   m.insertScan(kOrigin, {Eigen::Vector3d(1.95, 0.15, 0.15)});
   ASSERT_TRUE(m.isOccupied({6, 0, 0}));
-  // 0.85 - 0.4 * 3 < 0: the third scan that sees through it frees it (an obstacle that left).
-  m.insertScan(kOrigin, {Eigen::Vector3d(3.15, 0.15, 0.15)});
-  m.insertScan(kOrigin, {Eigen::Vector3d(3.15, 0.15, 0.15)});
-  EXPECT_TRUE(m.isOccupied({6, 0, 0}));
+  // An occupied cell takes the weak miss: 0.85 - 0.1 * 9 < 0, so the ninth scan that sees
+  // through it frees it (an obstacle that left).
+  for (int i = 0; i < 8; ++i) {
+    m.insertScan(kOrigin, {Eigen::Vector3d(3.15, 0.15, 0.15)});
+    EXPECT_TRUE(m.isOccupied({6, 0, 0})) << i;
+  }
   m.insertScan(kOrigin, {Eigen::Vector3d(3.15, 0.15, 0.15)});
   EXPECT_TRUE(m.isFree({6, 0, 0}));
   EXPECT_TRUE(m.lastScanAddedFree());
+}
+
+// A surface cell that the LiDAR hits in three scans of ten and sees through in the others (a
+// surface filling part of the cell) stays occupied and stops changing the map; at the full
+// miss it flips every few scans, and every flip is a change the planner's caches react to.
+TEST(OccupancyMap, PartlyFilledSurfaceCellDoesNotFlicker) {
+  for (const bool weak : {true, false}) {
+    OccupancyConfig c;
+    if (!weak) c.log_odds_miss_occupied = c.log_odds_miss;
+    OccupancyMap m(c);
+    int flips = 0;
+    bool was_occupied = false;
+    for (int scan = 0; scan < 30; ++scan) {
+      const bool hit = scan % 10 == 0 || scan % 10 == 3 || scan % 10 == 6;
+      m.insertScan(kOrigin, {Eigen::Vector3d(hit ? 1.95 : 3.15, 0.15, 0.15)});
+      const bool occ = m.isOccupied({6, 0, 0});
+      flips += scan > 0 && occ != was_occupied;
+      was_occupied = occ;
+    }
+    if (weak) {
+      EXPECT_EQ(flips, 0);
+      EXPECT_TRUE(m.isOccupied({6, 0, 0}));
+    } else {
+      EXPECT_GT(flips, 8);
+    }
+  }
 }
 
 TEST(OccupancyMap, BadPointsAreCountedAndIgnored) {
@@ -123,6 +151,14 @@ TEST(OccupancyMap, ConfigErrorsNameTheKey) {
   c = {};
   c.log_odds_miss = 0.3;
   EXPECT_THROW(c.validate(), efs::ConfigError);
+  c = {};
+  c.log_odds_miss_occupied = 0.0;
+  try {
+    c.validate();
+    FAIL() << "no exception";
+  } catch (const efs::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("occupancy.log_odds_miss_occupied"), std::string::npos);
+  }
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "efs_common/config_check.h"
@@ -158,6 +159,54 @@ TEST(ViewpointManager, FollowsTheFrontierOfAnExploredRoom) {
   for (double x : {5.0, 8.0, 11.0, 14.0}) step(Eigen::Vector3d(x, 0.1, 1.6));
   EXPECT_TRUE(vm.byCluster().empty());  // nothing left to see: every viewpoint dropped
   EXPECT_TRUE(vm.all().empty());
+}
+
+// A second scan from nearly the same place rebuilds the clusters it touches; their viewpoints,
+// sampled again where they were, keep their ids and places (so paths and goals stay cached).
+// Without reuse every rebuilt cluster's viewpoints come back under new ids.
+TEST(ViewpointManager, ResampledViewpointsKeepTheirIdsWhereTheyLandAgain) {
+  Scene room;
+  room.room = {Eigen::Vector3d(0.15, -2.85, 0.15), Eigen::Vector3d(15.75, 3.15, 3.15)};
+  for (const double reuse : {0.3, 0.0}) {
+    ObservationMap obs;
+    OccupancyMap occ;
+    FrontierClusterer fc;
+    ViewpointConfig vc;
+    vc.reuse_distance_m = reuse;
+    ViewpointManager vm{ViewpointSampler(vc)};
+    auto step = [&](const Eigen::Vector3d& o, double density) {
+      const auto pts = room.scanSphere(o, density);
+      obs.insertScan(o, pts);
+      occ.insertScan(o, pts);
+      const FrontierUpdateStats fs = fc.update(obs);
+      vm.update(fc, occ, obs.resolution());
+      return fs;
+    };
+    step(Eigen::Vector3d(2.0, 0.1, 1.6), 1.0);
+    std::map<int, Eigen::Vector3d> before;
+    std::set<int> clusters_before;
+    for (const Viewpoint& v : vm.all()) {
+      before[v.id] = v.position_world_m;
+      clusters_before.insert(v.cluster_id);
+    }
+    ASSERT_FALSE(before.empty());
+    const FrontierUpdateStats fs = step(Eigen::Vector3d(2.1, 0.1, 1.6), 1.3);
+    ASSERT_GT(fs.clusters_removed, 0u);  // clusters were rebuilt
+    // Viewpoints of rebuilt clusters (new cluster ids) that carry an id from before.
+    int reused = 0, moved = 0;
+    for (const Viewpoint& v : vm.all()) {
+      const auto it = before.find(v.id);
+      if (it == before.end()) continue;
+      moved += (it->second - v.position_world_m).norm() > 1e-12;
+      reused += !clusters_before.count(v.cluster_id);
+    }
+    EXPECT_EQ(moved, 0);
+    if (reuse > 0.0) {
+      EXPECT_GT(reused, 0) << "of " << before.size();
+    } else {
+      EXPECT_EQ(reused, 0);
+    }
+  }
 }
 
 TEST(ViewpointSampler, ConfigErrorsNameTheKey) {

@@ -35,7 +35,7 @@ struct LocalGridConfig {
   /// 87 % of a building mission's CPU when A* flooded a window in narrow mode). 0, or at least
   /// inflation_radius_m, keeps none.
   double narrow_radius_m = 0.36;
-  double max_ray_length_m = 30.0;    ///< longer rays clear free space up to this range only
+  double max_ray_length_m = 30.0;  ///< longer rays clear free space up to this range only
   /// Free space is cleared by one ray per end-point voxel of this size (0: a ray per point);
   /// every point still marks its hit. Rays are what a scan costs (memory-bound cell visits).
   double ray_downsample_m = 0.3;
@@ -115,7 +115,7 @@ class LocalGrid {
                             std::vector<Eigen::Vector3d>& out, bool surface_only = false) const;
   /// Ring-buffer slot of an in-window key, in [0, cellCount()): for planners' scratch arrays.
   size_t slot(const VoxelKey& k) const { return index(k); }
-  size_t cellCount() const { return occupied_.size(); }
+  size_t cellCount() const { return cells_.size(); }
   size_t occupiedCount() const;
   /// Occupied cells remembered outside the window.
   size_t rememberedCount() const { return remembered_; }
@@ -126,10 +126,19 @@ class LocalGrid {
     const int r = a % n;
     return r < 0 ? r + n : r;
   }
-  size_t index(const VoxelKey& k) const {
-    return (static_cast<size_t>(posMod(k.x, nx_)) * ny_ + posMod(k.y, ny_)) * nz_ +
-           posMod(k.z, nz_);
+  // Slot of an in-window key along one axis: key mod n without a division (a key lies in
+  // [min, min + n), so its slot is the window's phase plus the offset, wrapped at most once).
+  static int axisSlot(int k, int min_k, int phase, int n) {
+    const int s = k - min_k + phase;
+    return s >= n ? s - n : s;
   }
+  size_t index(const VoxelKey& k) const {
+    return (static_cast<size_t>(axisSlot(k.x, min_key_.x, phase_.x, nx_)) * ny_ +
+            axisSlot(k.y, min_key_.y, phase_.y, ny_)) *
+               nz_ +
+           axisSlot(k.z, min_key_.z, phase_.z, nz_);
+  }
+  void setWindow(const VoxelKey& min_key);
   void updateCell(size_t idx, const VoxelKey& k, float delta);
   void stampInflation(const VoxelKey& k, int sign);
   void recomputeInflation();
@@ -147,15 +156,29 @@ class LocalGrid {
   LocalGridConfig cfg_;
   int nx_ = 0, ny_ = 0, nz_ = 0;
   VoxelKey min_key_;
-  std::vector<float> logodds_;
-  std::vector<uint8_t> observed_;
-  std::vector<uint8_t> occupied_;  ///< cached observed && logodds > threshold
-  std::vector<uint16_t> inflation_;
-  std::vector<uint16_t> narrow_inflation_;  ///< same count for narrow_radius_m (empty if 0)
-  std::vector<uint32_t> scan_stamp_;
+  /// Everything a ray step, an inflation stamp or a search step reads of one cell, together: a
+  /// ray crosses cells a whole y-z plane apart, and one array per field cost a cache miss each.
+  struct Cell {
+    float logodds = 0.f;
+    uint32_t scan_stamp = 0;
+    uint16_t inflation = 0;         ///< occupied cells within inflation_radius_m
+    uint16_t narrow_inflation = 0;  ///< the same within narrow_radius_m (if has_narrow_)
+    uint8_t observed = 0;
+    uint8_t occupied = 0;  ///< cached observed && logodds > threshold
+  };
+  std::vector<Cell> cells_;
+  bool has_narrow_ = false;  ///< narrow_inflation is kept
   uint32_t scan_id_ = 0;
-  std::vector<VoxelKey> kernel_;
-  size_t narrow_kernel_size_ = 0;  ///< kernel_ is sorted by distance: its first cells
+  VoxelKey phase_;  ///< slot of min_key_ along each axis (posMod(min_key_, n))
+  /// The inflation ball as vertical runs: cells (dx, dy, dz) with |dz| <= half_height
+  /// (narrow_half_height for the narrow ball, -1 where it has no cell in that column).
+  struct KernelColumn {
+    int dx, dy, half_height, narrow_half_height;
+  };
+  std::vector<KernelColumn> kernel_;
+  int kernel_reach_ = 0;  ///< largest |offset| of the ball along an axis [cells]
+  /// Scratch of stampInflation: per-axis slot of k + offset, or -1 outside the window.
+  std::vector<int> stamp_slots_x_, stamp_slots_y_, stamp_slots_z_;
   std::vector<std::pair<uint64_t, uint32_t>> ray_bins_;  ///< scratch: (coarse key, point index)
 
   struct RememberedCell {

@@ -74,6 +74,11 @@ struct OccupancyConfig {
   double min_range_m = 0.3;
   double log_odds_hit = 0.85;
   double log_odds_miss = -0.4;
+  /// A miss through a cell that is occupied now. Surface cells that a 0.3 m cell only partly
+  /// fills are crossed by rays to the surface behind them: at the full miss some 100 cells per
+  /// scan flipped between free and occupied in a mapped garage, and each flip invalidated the
+  /// planner's cached path lengths nearby (the whole tour matrix searched again every scan).
+  double log_odds_miss_occupied = -0.1;
   double log_odds_min = -2.0;
   double log_odds_max = 3.5;
   /// Known cells above this log-odds are occupied, the others free.
@@ -82,6 +87,13 @@ struct OccupancyConfig {
 };
 
 enum class OccupancyState : uint8_t { kUnknown, kFree, kOccupied };
+
+/// One cell whose state one scan changed.
+struct CellChange {
+  VoxelKey cell;
+  OccupancyState before;
+  OccupancyState after;
+};
 
 /// What one scan did; rejected points are counted, never silently dropped.
 struct OccupancyUpdateStats {
@@ -163,6 +175,12 @@ class OccupancyMap {
   uint64_t revision() const { return revision_; }
   /// Blocks (block keys) in which a cell changed state during the last insertScan.
   const std::vector<VoxelKey>& lastChangedBlocks() const { return changed_blocks_; }
+  /// The cells whose state the last insertScan changed, when there were at most
+  /// kMaxListedChanges (a mapped place changes a few dozen per scan, its first scans thousands).
+  /// Beyond that the list is empty and lastChangesListed() is false: use the blocks.
+  static constexpr size_t kMaxListedChanges = 4096;
+  const std::vector<CellChange>& lastChangedCells() const { return changed_cells_; }
+  bool lastChangesListed() const { return changes_listed_; }
   /// Whether the last insertScan turned some unknown/occupied cell free, or some cell occupied.
   bool lastScanAddedFree() const { return last_added_free_; }
   bool lastScanAddedOccupied() const { return last_added_occupied_; }
@@ -196,12 +214,14 @@ class OccupancyMap {
   OccupancyConfig config_;
   // Log-odds are stored as int8 in units of kQuantum to keep a block at 1 KiB.
   static constexpr double kQuantum = 0.05;
-  int hit_q_, miss_q_, min_q_, max_q_, occupied_q_;
+  int hit_q_, miss_q_, miss_occupied_q_, min_q_, max_q_, occupied_q_;
   std::unordered_map<VoxelKey, std::unique_ptr<Block>, VoxelKeyHash> blocks_;
   uint8_t scan_stamp_ = 0;
   uint64_t revision_ = 0;
   size_t known_cells_ = 0;
   std::vector<VoxelKey> changed_blocks_;
+  std::vector<CellChange> changed_cells_;
+  bool changes_listed_ = true;
   bool last_added_free_ = false;
   bool last_added_occupied_ = false;
   friend class BlockCursor;

@@ -124,6 +124,10 @@ class PathSearch {
   using Joins = std::vector<std::pair<VoxelKey, double>>;
 
   Slot slot(const VoxelKey& k);
+  /// f(chunk, index, key) for every node with a memoised test whose key lies in the box.
+  template <typename F>
+  void forEachMemoisedNode(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, F&& f);
+  void syncWithChangedCells();
   bool traversable(const VoxelKey& k);
   bool traversable(const Slot& s, const VoxelKey& k);
   /// Where a traversable node stands: its centre, or a narrow node's safe sub-point.
@@ -208,6 +212,7 @@ class PathLengthCache {
     std::optional<double> length_m;
     std::vector<Eigen::Vector3d> path_world_m;  ///< waypoints when found
     VoxelKey block_lo, block_hi;  ///< box of the path in occupancy blocks, grown by one
+    VoxelKey cell_lo, cell_hi;    ///< box of the path in cells, grown by the reach of changes
   };
   struct PairHash {
     size_t operator()(const std::pair<uint64_t, uint64_t>& p) const noexcept {
@@ -223,6 +228,7 @@ class PathLengthCache {
   void store(uint64_t id_a, const Eigen::Vector3d& a, uint64_t id_b, const Eigen::Vector3d& b,
              PathSearchResult r);
   bool pathNear(const Entry& e, const std::vector<VoxelKey>& blocks) const;
+  bool pathNear(const Entry& e, const std::vector<CellChange>& cells) const;
 
   PathSearch search_;
   std::unordered_map<std::pair<uint64_t, uint64_t>, Entry, PairHash> entries_;

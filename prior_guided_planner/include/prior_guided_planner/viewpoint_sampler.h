@@ -72,6 +72,12 @@ struct ViewpointConfig {
   /// beside a floor not seen yet was taken for safe (seen: viewpoints 0.35 m above an office
   /// floor, the vehicle hitting it on the way down).
   bool require_known_free = true;
+  /// A viewpoint sampled again (its cluster changed by a cell, or was rebuilt) that lands within
+  /// this distance of one it replaces keeps that one's id and place, if still safe. In a mapped
+  /// garage the clusters were rebuilt every scan under new ids: every planning cycle searched
+  /// the whole tour matrix again and sent the local planner a goal a few centimetres off.
+  /// 0: every sample is new.
+  double reuse_distance_m = 0.3;
   void validate() const;
 };
 
@@ -129,8 +135,13 @@ class ViewpointManager {
 
  private:
   void resample(const FrontierCluster& c, const OccupancyMap& occ, double res);
+  /// Moves a cluster's viewpoints to the ones this update replaces.
+  void retire(std::map<int, std::vector<Viewpoint>>::iterator it);
+  /// An id for a new viewpoint: a replaced one's (taking over its place) or a fresh one.
+  void assignId(Viewpoint& v, const OccupancyMap& occ);
 
   ViewpointSampler sampler_;
+  std::vector<Viewpoint> retired_;  ///< replaced during the running update, ids not taken yet
   std::map<int, std::vector<Viewpoint>> by_cluster_;
   std::set<int> sampled_;  ///< clusters already sampled, with or without a viewpoint
   uint64_t seen_occ_revision_ = 0;

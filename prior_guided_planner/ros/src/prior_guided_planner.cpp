@@ -79,6 +79,7 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   e.fov.mount_pitch_rad = pitch_deg * kDegToRad;
   p.get("viewpoint_clearance_m", e.viewpoint.clearance_m);
   p.get("max_viewpoints_per_cluster", e.viewpoint.max_viewpoints_per_cluster);
+  p.get("viewpoint_reuse_distance_m", e.viewpoint.reuse_distance_m);
   p.get("vehicle_radius_m", e.path.vehicle_radius_m);
   p.get("path_search_resolution_m", e.path.search_resolution_m);
   p.get("path_narrow_radius_m", e.path.narrow_radius_m);
