@@ -9,6 +9,7 @@
 
 #include "efs_common/angles.h"
 #include "efs_common/config_check.h"
+#include "efs_common/segment_distance.h"
 #include "marsim_worlds/seeded_random.h"
 
 namespace efs::sim {
@@ -72,14 +73,6 @@ class SegmentBuckets {
   int nx_, ny_;
   std::vector<std::vector<int>> cells_;
 };
-
-double segmentDistance2d(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                         const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
 
 struct Tip {
   int node;
@@ -219,7 +212,7 @@ VoxelWorld generateCave(const CaveConfig& c) {
   auto farFromOthers = [&](const Eigen::Vector2d& q, const std::vector<int>& exempt) {
     for (int s : buckets.near(q, separation_m)) {
       if (std::find(exempt.begin(), exempt.end(), s) != exempt.end()) continue;
-      if (segmentDistance2d(q, nodes[segs[s].a].p.head<2>(), nodes[segs[s].b].p.head<2>()) <
+      if (distanceToSegment<2>(q, nodes[segs[s].a].p.head<2>(), nodes[segs[s].b].p.head<2>()) <
           separation_m) {
         return false;
       }

@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "efs_common/config_check.h"
+#include "efs_common/segment_distance.h"
 #include "prior_guided_planner/observation_map.h"
 
 namespace efs::planner {
@@ -67,18 +68,10 @@ bool keyLess(const VoxelKey& x, const VoxelKey& y) {
   return std::tie(x.x, x.y, x.z) < std::tie(y.x, y.y, y.z);
 }
 
-double distanceToSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                         const Eigen::Vector3d& b) {
-  const Eigen::Vector3d d = b - a;
-  const double len2 = d.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * d - p).norm();
-}
-
 /// Whether some leg of the polyline passes within `reach` of p.
 bool polylineWithin(const std::vector<Eigen::Vector3d>& w, const Eigen::Vector3d& p, double reach) {
   for (size_t i = 0; i + 1 < w.size(); ++i)
-    if (distanceToSegment(p, w[i], w[i + 1]) <= reach) return true;
+    if (efs::distanceToSegment<3>(p, w[i], w[i + 1]) <= reach) return true;
   return false;
 }
 
@@ -293,7 +286,7 @@ void PathSearch::syncWithChangedCells() {
         if (!(memo & bit)) continue;
         const VoxelKey n{k.x + o.d[d].x, k.y + o.d[d].y, k.z + o.d[d].z};
         const Eigen::Vector3d pb = nodePosition(slot(n), n);
-        if (distanceToSegment(p, pa, pb) > segment_reach) continue;
+        if (efs::distanceToSegment<3>(p, pa, pb) > segment_reach) continue;
         const bool ok =
             segmentSafe(pa, pb, config_.narrow_radius_m, config_.unknown_is_traversable);
         if (ok == static_cast<bool>(ch.edge_ok[i] & bit)) continue;
