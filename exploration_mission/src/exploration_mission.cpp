@@ -178,8 +178,8 @@ bool ExplorationMission::step() {
   o.omega_body_radps = odom.omega_body_rad_s;
   if (t >= next_clearance_check_s_) {
     next_clearance_check_s_ = t + 0.1;
-    log_.min_clearance_m = std::min(
-        log_.min_clearance_m, session_->world().clearance(sim.groundTruth().p_world_m, 2.0));
+    log_.min_clearance_m = std::min(log_.min_clearance_m,
+                                    session_->world().clearance(sim.groundTruth().p_world_m, 2.0));
   }
   if (sample.valid) {
     const double e = (sample.p_world_m - sim.groundTruth().p_world_m).norm();
@@ -243,7 +243,10 @@ void ExplorationMission::onScan() {
     }
     target = &exploration_->update(t, robot);
   }
-  if (target->replanned) ++log_.planner_cycles;
+  if (target->replanned) {
+    ++log_.planner_cycles;
+    if (plan_observer_) plan_observer_(t, sensor_m, *exploration_);
+  }
   if (target->active_hypothesis_id) last_active_hypothesis_id_ = target->active_hypothesis_id;
   planner_state_ = planner::toString(target->state);
   switch (target->state) {

@@ -12,6 +12,7 @@
 #include "efs_common/resource_usage.h"
 #include "exploration_mission/mission_report.h"
 #include "exploration_mission/mission_spec.h"
+#include "exploration_mission/plan_log.h"
 
 namespace {
 
@@ -19,7 +20,8 @@ constexpr const char* kUsage =
     R"(usage: explore_mission [options] --out DIR
 
 Flies one headless closed-loop exploration in simulated time and writes DIR/summary.json,
-DIR/summary.md, DIR/trajectory.png, DIR/coverage.png, and with a sketch DIR/prior.prior (the
+DIR/summary.md, DIR/trajectory.png, DIR/coverage.png, DIR/plan_log.csv (a line per planning
+cycle: mode, hypothesis, guidepoint states, next guidepoint, goal), and with a sketch DIR/prior.prior (the
 pre-processed sketch) and DIR/prior_overlay.png (and DIR/sketch.png when it draws one), and
 what the mission leaves behind in DIR/map/: cloud.pcd (dense point cloud), occupancy.bt
 (OctoMap), trajectory.csv and registration.yaml (the sketch-to-world transforms), world frame.
@@ -74,6 +76,13 @@ int main(int argc, char** argv) {
       std::cout << "[explore_mission] sketch: " << mission->prior()->description << ", "
                 << bundle.guidepoints.size() << " guidepoints\n";
     }
+    // Why the flight went where it went: one line per planning cycle.
+    std::ofstream plan_csv(out_dir + "/plan_log.csv");
+    mission::PlanLog plan_log(plan_csv);
+    mission->setPlanObserver(
+        [&plan_log](double t, const Eigen::Vector3d& robot, const planner::ExplorationManager& m) {
+          plan_log.record(t, robot, m);
+        });
     mission->run(
         [](const mission::MissionProgress& p) {
           std::printf(

@@ -96,6 +96,14 @@ class ExplorationMission {
     observer_ = std::move(observer);
   }
 
+  /// Called after every planning cycle with the simulated time, the robot position and the
+  /// exploration planner (e.g. a PlanLog).
+  void setPlanObserver(
+      std::function<void(double, const Eigen::Vector3d&, const planner::ExplorationManager&)>
+          observer) {
+    plan_observer_ = std::move(observer);
+  }
+
   const MissionLog& log() const { return log_; }
   MissionProgress progress() const;
   const sim::SimulationSession& session() const { return *session_; }
@@ -139,6 +147,8 @@ class ExplorationMission {
   std::string planner_state_ = "waiting";
   std::optional<int> last_active_hypothesis_id_;  ///< the last one the guidance used
   std::function<void(const sim::Simulator&)> observer_;
+  std::function<void(double, const Eigen::Vector3d&, const planner::ExplorationManager&)>
+      plan_observer_;
 };
 
 }  // namespace efs::mission

@@ -1,0 +1,30 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+//
+// A CSV line per planning cycle of the exploration planner: where the robot was, which mode and
+// hypothesis guided, the guidepoint states under it, the target group, the next guidepoint and
+// the FE-TSP's terminal, the goal handed to the local planner. What a person reads to see why a
+// flight went where it went (explore_mission --plan-log).
+#pragma once
+
+#include <Eigen/Core>
+#include <ostream>
+
+#include "prior_guided_planner/exploration_manager.h"
+
+namespace efs::mission {
+
+class PlanLog {
+ public:
+  /// Writes the header line.
+  explicit PlanLog(std::ostream& out);
+  /// One line for the manager's last plan (nothing before the first plan).
+  void record(double time_s, const Eigen::Vector3d& robot_world_m,
+              const planner::ExplorationManager& manager);
+  size_t rows() const { return rows_; }
+
+ private:
+  std::ostream& out_;
+  size_t rows_ = 0;
+};
+
+}  // namespace efs::mission

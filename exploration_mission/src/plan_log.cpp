@@ -1,0 +1,43 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "exploration_mission/plan_log.h"
+
+#include <array>
+
+namespace efs::mission {
+
+PlanLog::PlanLog(std::ostream& out) : out_(out) {
+  out_ << "time_s,x_m,y_m,z_m,state,mode,active_hypothesis,hypotheses,viewpoints,unexplored,"
+          "exploring,explored,outside,target_group,isolated,next_guidepoint_x_m,"
+          "next_guidepoint_y_m,terminal_x_m,terminal_y_m,goal_x_m,goal_y_m,goal_z_m,tour\n";
+}
+
+void PlanLog::record(double time_s, const Eigen::Vector3d& robot,
+                     const planner::ExplorationManager& manager) {
+  const planner::PlanningResult* plan = manager.lastPlan();
+  if (!plan) return;
+  const planner::ExplorationTarget& target = manager.target();
+  std::array<int, 4> states{};  // unexplored, exploring, explored, outside
+  if (const planner::HypothesisAttachment* a = manager.activeAttachment())
+    for (planner::GuidepointState s : a->states) ++states[static_cast<int>(s)];
+  const std::vector<Eigen::Vector2d> sequence = manager.activeGuidepointSequence();
+  const auto xy = [&](size_t i) {
+    if (i >= sequence.size()) return std::string(",");
+    return std::to_string(sequence[i].x()) + "," + std::to_string(sequence[i].y());
+  };
+  out_ << time_s << ',' << robot.x() << ',' << robot.y() << ',' << robot.z() << ','
+       << planner::toString(target.state) << ',' << planner::toString(plan->mode_used) << ','
+       << plan->active_hypothesis_id << ',' << plan->used_hypotheses.size() << ','
+       << manager.viewpoints().size() << ',' << states[0] << ',' << states[1] << ',' << states[2]
+       << ',' << states[3] << ',' << plan->selection.target_viewpoints.size() << ','
+       << plan->selection.isolated_viewpoints.size() << ',' << xy(0) << ',' << xy(1) << ',';
+  if (target.has_goal) {
+    out_ << target.goal_world_m.x() << ',' << target.goal_world_m.y() << ','
+         << target.goal_world_m.z();
+  } else {
+    out_ << ",,";
+  }
+  out_ << ',' << plan->tour.viewpoints.size() << '\n';
+  ++rows_;
+}
+
+}  // namespace efs::mission

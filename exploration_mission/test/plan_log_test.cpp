@@ -1,0 +1,60 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "exploration_mission/plan_log.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+
+namespace efs::mission {
+namespace {
+
+/// A scan from `o` of the inside of the box [lo, hi]: each ray of a Fibonacci sphere ends on the
+/// first wall it meets.
+std::vector<Eigen::Vector3f> boxScan(const Eigen::Vector3d& o, const Eigen::Vector3d& lo,
+                                     const Eigen::Vector3d& hi) {
+  std::vector<Eigen::Vector3f> pts;
+  const int n = 6000;
+  for (int i = 0; i < n; ++i) {
+    const double z = -1.0 + 2.0 * (i + 0.5) / n, r = std::sqrt(1.0 - z * z), az = 2.399963 * i;
+    const Eigen::Vector3d d(r * std::cos(az), r * std::sin(az), z);
+    double t = 1e9;
+    for (int a = 0; a < 3; ++a)
+      if (std::abs(d[a]) > 1e-9) t = std::min(t, ((d[a] > 0 ? hi[a] : lo[a]) - o[a]) / d[a]);
+    pts.push_back((o + t * d).cast<float>());
+  }
+  return pts;
+}
+
+size_t columns(const std::string& line) { return std::count(line.begin(), line.end(), ',') + 1; }
+
+TEST(PlanLog, OneLinePerPlanWithTheHeadersColumns) {
+  std::ostringstream out;
+  PlanLog log(out);
+  planner::ExplorationManager m(planner::ExplorationManagerConfig{}, std::nullopt);
+  const Eigen::Vector3d robot(2.0, 0.1, 1.6);
+  planner::RobotPose pose;
+  pose.position_world_m = robot;
+  log.record(0.0, robot, m);  // no plan yet: nothing written
+  EXPECT_EQ(log.rows(), 0u);
+  // A corridor whose far end lies beyond the LiDAR's range: frontiers, so a plan with a goal.
+  m.insertScan(robot, boxScan(robot, {0.15, -2.85, 0.15}, {60.0, 3.15, 3.15}));
+  const planner::ExplorationTarget& t = m.update(0.1, pose);
+  ASSERT_TRUE(t.replanned);
+  ASSERT_TRUE(t.has_goal) << t.message;
+  log.record(0.1, robot, m);
+  EXPECT_EQ(log.rows(), 1u);
+  std::istringstream in(out.str());
+  std::string header, row, extra;
+  ASSERT_TRUE(std::getline(in, header));
+  ASSERT_TRUE(std::getline(in, row));
+  EXPECT_FALSE(std::getline(in, extra));
+  EXPECT_EQ(columns(row), columns(header));
+  EXPECT_EQ(header.rfind("time_s,x_m,y_m,z_m,state,mode,", 0), 0u);
+  EXPECT_EQ(row.rfind("0.1,2,0.1,1.6,exploring,prior_free,-1,0,", 0), 0u) << row;
+}
+
+}  // namespace
+}  // namespace efs::mission
