@@ -143,7 +143,7 @@ std::vector<Candidate> CandidateDatabase::scoreAll(const GeoContext& observed,
   if (!observed.valid || observed.range_m.size() != static_cast<size_t>(config_.num_bins)) {
     return out;
   }
-  const ShiftTables tables(observed);
+  const ShiftTables tables(observed, config_.empty_observed_bins_unknown);
   out.reserve(size());
   for (size_t i = 0; i < size(); ++i) out.push_back(score(i, observed, tables, w, try_reversed));
   std::stable_sort(out.begin(), out.end(),
@@ -173,7 +173,7 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
   std::sort(bound.begin(), bound.end(), [](const auto& a, const auto& b) {
     return a.first > b.first || (a.first == b.first && a.second < b.second);
   });
-  const ShiftTables tables(observed);
+  const ShiftTables tables(observed, config_.empty_observed_bins_unknown);
   auto worse = [](const Candidate& a, const Candidate& b) { return a.score > b.score; };
   std::priority_queue<Candidate, std::vector<Candidate>, decltype(worse)> heap(worse);
   for (const auto& [ub, i] : bound) {
@@ -197,9 +197,9 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
 
 std::vector<Candidate> CandidateDatabase::findCandidates(const GeoContext& observed,
                                                          const RetrievalConfig& config) const {
-  const size_t k = std::max(
-      static_cast<size_t>(std::ceil(config.eta * static_cast<double>(valid_count_))),
-      std::min(static_cast<size_t>(config.min_ranked_candidates), valid_count_));
+  const size_t k =
+      std::max(static_cast<size_t>(std::ceil(config.eta * static_cast<double>(valid_count_))),
+               std::min(static_cast<size_t>(config.min_ranked_candidates), valid_count_));
   const std::vector<Candidate> raw =
       rank(observed, std::max<size_t>(k, 1), config.weights, config.try_reversed);
   std::vector<Candidate> out;

@@ -139,13 +139,37 @@ inline double inverseCosineWithSums(const float* prior, const float* observed, i
 
 inline float sumOf(const float* x, int n) { return Eigen::Map<const Eigen::ArrayXf>(x, n).sum(); }
 
-}  // namespace
-
-double inverseCosine(const float* prior, const float* observed, int n) {
-  return inverseCosineWithSums(prior, observed, n, sumOf(prior, n), sumOf(observed, n));
+/// S_inv_cos of `prior` against the window of a doubled observed table starting at `start`. An
+/// empty observed bin contributes a_i to the prior's norm (w a^2 = a); where it means "not seen"
+/// (`unseen`: the table's empty positions) the prior's bin is left out of that norm instead. The
+/// few empty positions are subtracted rather than the window masked: a mask pass per shift made
+/// retrieval 67-79 % slower, this 25-30 %.
+inline double windowScore(const float* prior, float sum_prior, const std::vector<float>& table,
+                          const std::vector<int>& unseen, int start, int n, float sum_observed) {
+  for (int p : unseen) {
+    if (p >= start && p < start + n) sum_prior -= prior[p - start];
+  }
+  return inverseCosineWithSums(prior, table.data() + start, n, sum_prior, sum_observed);
 }
 
-ShiftTables::ShiftTables(const GeoContext& observed) {
+std::vector<int> emptyPositions(const std::vector<float>& table, bool wanted) {
+  std::vector<int> out;
+  if (!wanted) return out;
+  for (size_t i = 0; i < table.size(); ++i) {
+    if (!(table[i] > 0.0f)) out.push_back(static_cast<int>(i));
+  }
+  return out;
+}
+
+}  // namespace
+
+double inverseCosine(const float* prior, const float* observed, int n, bool unknown_empty) {
+  float sum_prior = 0.0f;
+  for (int i = 0; i < n; ++i) sum_prior += !unknown_empty || observed[i] > 0.0f ? prior[i] : 0.0f;
+  return inverseCosineWithSums(prior, observed, n, sum_prior, sumOf(observed, n));
+}
+
+ShiftTables::ShiftTables(const GeoContext& observed, bool empty_is_unknown) {
   n = static_cast<int>(observed.range_m.size());
   plain.resize(2 * static_cast<size_t>(n));
   reversed.resize(2 * static_cast<size_t>(n));
@@ -163,6 +187,10 @@ ShiftTables::ShiftTables(const GeoContext& observed) {
     coarse_reversed[static_cast<size_t>(i)] =
         observed.coarse_range_m[static_cast<size_t>((2 * n_coarse - i) % n_coarse)];
   }
+  unseen_plain = emptyPositions(plain, empty_is_unknown);
+  unseen_reversed = emptyPositions(reversed, empty_is_unknown);
+  unseen_coarse_plain = emptyPositions(coarse_plain, empty_is_unknown);
+  unseen_coarse_reversed = emptyPositions(coarse_reversed, empty_is_unknown);
 }
 
 ShiftMatch bestColumnShiftCoarseToFine(const GeoContext& prior, const ShiftTables& tables,
@@ -180,15 +208,15 @@ ShiftMatch bestColumnShiftCoarseToFine(const GeoContext& prior, const ShiftTable
   coarse.reserve(2 * static_cast<size_t>(nc));
   for (int c = 0; c < nc; ++c) {
     coarse.emplace_back(
-        static_cast<float>(inverseCosineWithSums(prior.coarse_range_m.data(),
-                                                 tables.coarse_plain.data() + c, nc, sca, scb)),
+        static_cast<float>(windowScore(prior.coarse_range_m.data(), sca, tables.coarse_plain,
+                                       tables.unseen_coarse_plain, c, nc, scb)),
         c);
   }
   if (try_reversed) {
     for (int m = 0; m < nc; ++m) {
       coarse.emplace_back(
-          static_cast<float>(inverseCosineWithSums(
-              prior.coarse_range_m.data(), tables.coarse_reversed.data() + m, nc, sca, scb)),
+          static_cast<float>(windowScore(prior.coarse_range_m.data(), sca, tables.coarse_reversed,
+                                         tables.unseen_coarse_reversed, m, nc, scb)),
           nc + (nc - m) % nc);
     }
   }
@@ -202,9 +230,10 @@ ShiftMatch bestColumnShiftCoarseToFine(const GeoContext& prior, const ShiftTable
     for (int d = -(f - 1); d <= f - 1; ++d) {
       const int shift = ((center + d) % n + n) % n;
       // Plain: window at `shift`; mirrored: shift n' is the window at -n'.
-      const float* window =
-          rev ? tables.reversed.data() + (n - shift) % n : tables.plain.data() + shift;
-      const double v = inverseCosineWithSums(prior.range_m.data(), window, n, sa, sb);
+      const double v = rev ? windowScore(prior.range_m.data(), sa, tables.reversed,
+                                         tables.unseen_reversed, (n - shift) % n, n, sb)
+                           : windowScore(prior.range_m.data(), sa, tables.plain,
+                                         tables.unseen_plain, shift, n, sb);
       if (v > best.score) best = ShiftMatch{v, shift, rev, 0.0};
     }
   }
@@ -218,12 +247,12 @@ ShiftMatch bestColumnShift(const float* prior, const ShiftTables& tables, bool t
   if (n == 0) return best;
   const float sa = sumOf(prior, n), sb = sumOf(tables.plain.data(), n);
   for (int s = 0; s < n; ++s) {
-    const double v = inverseCosineWithSums(prior, tables.plain.data() + s, n, sa, sb);
+    const double v = windowScore(prior, sa, tables.plain, tables.unseen_plain, s, n, sb);
     if (v > best.score) best = ShiftMatch{v, s, false, 0.0};
   }
   if (try_reversed) {
     for (int m = 0; m < n; ++m) {
-      const double v = inverseCosineWithSums(prior, tables.reversed.data() + m, n, sa, sb);
+      const double v = windowScore(prior, sa, tables.reversed, tables.unseen_reversed, m, n, sb);
       if (v > best.score) best = ShiftMatch{v, (n - m) % n, true, 0.0};
     }
   }

@@ -180,6 +180,7 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
   // Observations mostly outside the sketch: the transform put the sketch somewhere else.
   if (static_cast<double>(d.size()) < config_.min_inside_ratio * observed.size()) return r;
   const auto fwd = trimmedMean(d, config_.fitness_trim_ratio, config_.inlier_distance_m);
+  r.coverage = fwd.second * static_cast<double>(d.size()) / static_cast<double>(observed.size());
   r.forward_fitness_m = fwd.first;
   r.fitness_m = fwd.first;
   r.inlier_ratio = fwd.second;

@@ -167,6 +167,12 @@ TEST(BadInput, ConfigValidationNamesTheKey) {
   c.kept_min_inlier_ratio = c.icp.min_inlier_ratio + 0.1;
   expectKey(c, "kept_min_inlier_ratio");
   c = {};
+  c.settled_coverage = 1.5;
+  expectKey(c, "settled_coverage");
+  c = {};
+  c.coverage_weight_m = -1.0;
+  expectKey(c, "coverage_weight_m");
+  c = {};
   c.icp.max_iterations = 0;
   expectKey(c, "max_iterations");
   // The constructor validates too.

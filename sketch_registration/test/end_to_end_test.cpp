@@ -21,6 +21,7 @@ namespace syn = synthetic;
 struct ScenarioRun {
   RegistrationResult last;
   std::vector<RegistrationStatus> statuses;
+  std::vector<RegistrationResult> frames;
 };
 
 syn::Scenario officeScenario(const Sim2& T, bool mirror_sketch = false) {
@@ -50,9 +51,20 @@ ScenarioRun runScenario(const syn::Scenario& sc, SketchRegistration& reg, int ma
     const Vector2d p = sc.path_world_m[i];
     run.last = reg.addFrame(double(i), {p.x(), p.y(), 1.5}, sim.localMap(p, 40.0));
     run.statuses.push_back(run.last.status);
+    run.frames.push_back(run.last);
     ++frames;
   }
   return run;
+}
+
+/// A partial sketch: the walls and candidate locations east of `x_m` (sketch frame) are cut away.
+void drawOnlyWestOf(syn::Scenario& sc, double x_m) {
+  auto outside = [&](const Vector2d& p) { return p.x() > x_m; };
+  sc.sketch_points_m.erase(
+      std::remove_if(sc.sketch_points_m.begin(), sc.sketch_points_m.end(), outside),
+      sc.sketch_points_m.end());
+  sc.candidates_m.erase(std::remove_if(sc.candidates_m.begin(), sc.candidates_m.end(), outside),
+                        sc.candidates_m.end());
 }
 
 /// Worst distance, over the sketch's walls near the path, between where `T` and the truth put them.
@@ -120,15 +132,11 @@ TEST(EndToEnd, HypothesisIdIsStableOnceConverged) {
   const Sim2 truth(-0.7, 0.8, Vector2d(-20.0, 40.0));
   const syn::Scenario sc = officeScenario(truth);
   SketchRegistration reg(SketchRegistration::Config{}, sc.sketch_points_m, sc.candidates_m);
-  syn::LocalMapSimulator sim(sc.world_plan, syn::LocalMapSimulator::Config{});
   std::optional<int> good_id;
   int good_frames = 0;
-  for (size_t i = 0; i < sc.path_world_m.size(); ++i) {
-    sim.scanAt(sc.path_world_m[i]);
-    if (i % 5 != 4) continue;
-    const Vector2d p = sc.path_world_m[i];
-    const auto& r = reg.addFrame(double(i), {p.x(), p.y(), 1.5}, sim.localMap(p, 40.0));
-    for (const auto& h : r.hypotheses) {
+  const ScenarioRun run = runScenario(sc, reg);
+  for (size_t i = 0; i < run.frames.size(); ++i) {
+    for (const auto& h : run.frames[i].hypotheses) {
       if (worstError(h.T_world_sketch, truth, sc) < 1.0) {
         if (good_id) {
           EXPECT_EQ(h.id, *good_id) << "frame " << i;
@@ -191,12 +199,7 @@ TEST(EndToEnd, PartialSketch) {
   // The sketch covers only the western 45 m of the 60 m floor; the robot walks beyond it.
   const Sim2 truth(-1.2, 1.1, Vector2d(-8.0, 12.0));
   syn::Scenario sc = officeScenario(truth);
-  auto outside = [](const Vector2d& p) { return p.x() > 45.0; };
-  sc.sketch_points_m.erase(
-      std::remove_if(sc.sketch_points_m.begin(), sc.sketch_points_m.end(), outside),
-      sc.sketch_points_m.end());
-  sc.candidates_m.erase(std::remove_if(sc.candidates_m.begin(), sc.candidates_m.end(), outside),
-                        sc.candidates_m.end());
+  drawOnlyWestOf(sc, 45.0);
   SketchRegistration reg(SketchRegistration::Config{}, sc.sketch_points_m, sc.candidates_m);
   const ScenarioRun run = runScenario(sc, reg);
   ASSERT_EQ(run.last.status, RegistrationStatus::kOk) << run.last.message;
@@ -296,6 +299,56 @@ TEST(EndToEnd, SketchOfAnotherPlaceYieldsNoHypothesis) {
   EXPECT_TRUE(run.last.status == RegistrationStatus::kNoConsistentTriplet ||
               run.last.status == RegistrationStatus::kAllRejectedByFitness)
       << toString(run.last.status) << ": " << run.last.message;
+}
+
+TEST(EndToEnd, HypothesesRankByFitnessAndCoverage) {
+  // ed21's numbers: a hand drawing laid shrunken on the office's repetitive walls fits them
+  // closely (F) but explains less than half of what the robot has seen; the true placement of the
+  // distorted drawing fits less closely and explains three quarters.
+  Hypothesis shrunken, placed;
+  shrunken.id = 16;
+  shrunken.fitness_m = 0.27;
+  shrunken.coverage = 0.42;
+  placed.id = 31;
+  placed.fitness_m = 0.35;
+  placed.coverage = 0.75;
+  std::vector<Hypothesis> hs = {shrunken, placed};
+  rankHypotheses(hs, 0.3, SketchRegistrationConfig{}.coverage_weight_m);
+  EXPECT_EQ(hs.front().id, 31);
+  EXPECT_GT(hs.front().confidence, hs.back().confidence);
+  EXPECT_NEAR(hs.front().confidence + hs.back().confidence, 1.0, 1e-12);
+  // The paper's ranking by F alone puts the shrunken placement first.
+  rankHypotheses(hs, 0.3, 0.0);
+  EXPECT_EQ(hs.front().id, 16);
+}
+
+/// Frames after the first kOk on which the verifier seeded new triplets.
+int seedingAfterRegistration(const syn::Scenario& sc, const SketchRegistration::Config& config) {
+  SketchRegistration reg(config, sc.sketch_points_m, sc.candidates_m);
+  bool registered = false;
+  int seeding = 0;
+  for (const RegistrationResult& r : runScenario(sc, reg).frames) {
+    if (registered && r.last_frame.verifier.anchor_pairs > 0) ++seeding;
+    registered = registered || r.status == RegistrationStatus::kOk;
+  }
+  EXPECT_TRUE(registered);
+  return seeding;
+}
+
+TEST(EndToEnd, TheSearchGoesOnWhileTheBestFitLeavesMuchUnexplained) {
+  const Sim2 truth(-1.2, 1.1, Vector2d(-8.0, 12.0));
+  syn::Scenario sc = officeScenario(truth);
+  const SketchRegistration::Config config;
+  // The whole floor drawn: the registration explains what is seen and settles.
+  EXPECT_EQ(seedingAfterRegistration(sc, config), 0);
+  // Drawn only west of x = 30 m: once the robot walks east, the true fit explains too little to
+  // settle, and new triplets are still combined (a wrong fit would not block the search).
+  drawOnlyWestOf(sc, 30.0);
+  EXPECT_GT(seedingAfterRegistration(sc, config), 0);
+  // Contrast: settled by any surviving hypothesis, the search stops.
+  SketchRegistration::Config any_fit = config;
+  any_fit.settled_coverage = 0.0;
+  EXPECT_EQ(seedingAfterRegistration(sc, any_fit), 0);
 }
 
 }  // namespace

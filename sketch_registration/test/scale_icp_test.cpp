@@ -189,5 +189,28 @@ TEST(ScaleIcp, ReverseTermIgnoresSketchWallsFarBeyondTheObservedArea) {
   EXPECT_TRUE(within.valid);
 }
 
+TEST(ScaleIcp, CoverageCountsObservedWallsBeyondTheSketchAsUnexplained) {
+  // Rooms of 4 m in an 8 x 8 grid. Laid at half scale from the corner, the sketch puts a wall on
+  // every observed wall of the quarter it spans (walls every 2 m): the observed points it spans
+  // all fit, but the three quarters it does not reach are left unexplained.
+  syn::FloorPlan plan;
+  for (int i = 0; i <= 8; ++i) {
+    plan.push_back({Vector2d(4.0 * i, 0.0), Vector2d(4.0 * i, 32.0)});
+    plan.push_back({Vector2d(0.0, 4.0 * i), Vector2d(32.0, 4.0 * i)});
+  }
+  const Points2d sketch = syn::samplePlan(plan, 0.1);
+  const Points2d observed = syn::samplePlan(plan, 0.25);
+  const ScaleIcp icp(sketch, ScaleIcpConfig{});
+  const IcpResult truth = icp.evaluate(Sim2(), observed);
+  const IcpResult shrunken = icp.evaluate(Sim2(0.0, 0.5, Vector2d::Zero()), observed);
+  EXPECT_GT(truth.coverage, 0.99);
+  EXPECT_GT(shrunken.inlier_ratio, 0.95) << shrunken.coverage;
+  EXPECT_LT(shrunken.fitness_m, 0.05);
+  EXPECT_TRUE(shrunken.valid);
+  // The quarter plus the sketch margin (3 m): about (19 / 32)^2 of the walls.
+  EXPECT_LT(shrunken.coverage, 0.45);
+  EXPECT_GT(shrunken.coverage, 0.25);
+}
+
 }  // namespace
 }  // namespace efs::registration

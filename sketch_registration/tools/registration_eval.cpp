@@ -4,7 +4,8 @@
 //
 // A world (generated or imported) is flown along one fixed route: the PRM of the world's own
 // precise sketch, mapped into the world through that sketch's sidecar, toured greedily from the
-// world's start pose at --speed m/s. A Mid-360 is cast against the world every --scan-period s
+// world's start pose at --speed m/s (a finer PRM when doors cut the start off from more than
+// three quarters of it). A Mid-360 is cast against the world every --scan-period s
 // into a lio_bridge LocalMap, and every --frame-period s of simulated time (0.2 Hz) the local map
 // and robot position go to SketchRegistration::addFrame. Each trial registers a freshly drawn
 // sketch variant (seed = --sketch-seed + trial) with its sidecar ground truth, or a real sketch
@@ -20,15 +21,31 @@
 //   3. ranking ablation: ranking score 1 - rank / N of the best-ranked correct candidate among
 //      all N candidates, combined similarity vs cosine only.
 // With a real sketch (no truth) a hypothesis is a success if it lays the sketch walls onto the
-// world's wall columns: median distance at most --wall-median-m and at least --wall-inlier-ratio
-// of the mapped wall points within 1 m (the "wall fit" columns). Single-frame and ablation tables
-// need the truth and are skipped.
+// world's wall columns: median distance at most --wall-median-m, at least --wall-inlier-ratio of
+// the mapped wall points within 1 m and at least as large a share of the world's walls within 1 m
+// of a mapped sketch wall (the "wall fit" columns). Single-frame and ablation tables need the
+// truth (or --reference) and are skipped.
 //
 //   registration_eval [--world KIND --size small|paper --seed S | --sdf FILE]
 //                     [--variant precise|partial|deformed|scaled | --sketch PNG --scale-guess M]
 //                     [--trials N] [--sketch-seed S] [--max-time-s T] [--markdown FILE]
-//                     [--require-success K] [--no-single-frame]
+//                     [--require-success K] [--no-single-frame] [--verbose]
+//                     [--dump-dir DIR] [--reference "yaw_rad scale tx ty [reflected]"]
 // --require-success K: exit 1 unless at least K trials succeed (smoke tests).
+// --verbose: per frame the status, the verifier's counts, every hypothesis with its wall fit and
+//   coverage, and what the truth (or --reference) scores: fitness, whether a candidate near it was
+//   selected, the triplet of the last three frames' correct candidates, the representative nearest
+//   it and what Scale-ICP makes of it.
+// --dump-dir DIR: for each frame that fails single-frame retrieval at eta 5 %, the observed and
+//   prior descriptors (text) and a picture around the robot; per trial, the whole flight's
+//   observation against the world, the reference and the final best hypothesis.
+// --reference: a placement of a real sketch found offline, for the diagnostics above only (its
+//   success is still judged by the wall fit).
+// Registration parameters for ablations: --eta, --fitness-threshold-m, --min-inlier-ratio,
+// --kept-fitness-threshold-m, --kept-min-inlier-ratio, --inlier-distance-m, --slice-min-dz-m,
+// --slice-max-dz-m, --wall-columns 0|1, --column-cell-m, --wall-min-height-m, --wall-max-gap-m,
+// --icp-range-m, --max-range-m, --unknown-empty-bins 0|1, --settled-coverage,
+// --coverage-weight-m.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -44,6 +61,9 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
 #include "efs_common/cli_args.h"
 #include "efs_common/config_check.h"
 #include "efs_common/point_kdtree.h"
@@ -58,6 +78,7 @@
 #include "sketch_registration/observation.h"
 #include "sketch_registration/prior_inputs.h"
 #include "sketch_registration/scale_icp.h"
+#include "sketch_registration/sim2_fit.h"
 #include "sketch_registration/sketch_registration.h"
 
 namespace {
@@ -88,6 +109,8 @@ struct Options {
   std::optional<int> require_success;
   bool single_frame = true;
   bool verbose = false;
+  std::string dump_dir;           ///< descriptors and pictures of the frames that fail at eta 5 %
+  std::optional<Sim2> reference;  ///< a real sketch's reference placement (diagnostics only)
   reg::SketchRegistration::Config registration;  ///< paper defaults; scale_guess stays 1
 };
 
@@ -170,14 +193,21 @@ struct Route {
   double length_m = 0.0;
 };
 
-Route planRoute(const sim::VoxelWorld& world, double max_length_m) {
-  const SketchInput precise = generatedSketch(world, sim::SketchVariant::kPrecise, 1);
+/// The flyable part of a PRM: nodes at a free flight height, edges with clearance.
+struct FlyableGraph {
+  size_t prm_nodes = 0;
+  std::vector<Vector3d> nodes;
+  std::vector<std::vector<std::pair<int, double>>> adj;
+  int start_node = 0;
+  size_t reachable = 0;  ///< nodes connected to start_node
+};
+
+FlyableGraph flyableGraph(const sim::VoxelWorld& world, const SketchInput& precise,
+                          double node_spacing_m, const Vector3d& start) {
   pm::PrmConfig pc;
-  pc.node_spacing_m = 1.0;
+  pc.node_spacing_m = node_spacing_m;
   const pm::Prm prm = pm::buildPrm(precise.bundle.traversable, precise.bundle.frame, pc);
   const Sim2& T = *precise.T_world_sketch;
-  if (world.start_poses.empty()) throw std::runtime_error("the world has no start pose");
-  const Vector3d start = world.start_poses.front().position_m;
   // Each node flies at the free height nearest the start's (caves have uneven floors).
   const auto flyHeight = [&](const Vector2d& p) -> std::optional<double> {
     for (int k = 0; k <= 40; ++k) {
@@ -190,39 +220,70 @@ Route planRoute(const sim::VoxelWorld& world, double max_length_m) {
     }
     return std::nullopt;
   };
-  std::vector<Vector3d> nodes;
+  FlyableGraph g;
+  g.prm_nodes = prm.nodes_m.size();
   std::vector<int> index(prm.nodes_m.size(), -1);
   for (size_t i = 0; i < prm.nodes_m.size(); ++i) {
     const Vector2d p = T.apply(prm.nodes_m[i]);
     const auto z = flyHeight(p);
     if (!z) continue;
-    index[i] = static_cast<int>(nodes.size());
-    nodes.emplace_back(p.x(), p.y(), *z);
+    index[i] = static_cast<int>(g.nodes.size());
+    g.nodes.emplace_back(p.x(), p.y(), *z);
   }
-  std::vector<std::vector<std::pair<int, double>>> adj(nodes.size());
+  g.adj.resize(g.nodes.size());
   for (const pm::PrmEdge& e : prm.edges) {
     const int a = index[e.a], b = index[e.b];
     if (a < 0 || b < 0) continue;
-    const double len = (nodes[a] - nodes[b]).norm();
+    const double len = (g.nodes[a] - g.nodes[b]).norm();
     bool ok = true;
     for (double s = 0.25; s < len && ok; s += 0.25) {
-      ok = world.clearance(nodes[a] + (nodes[b] - nodes[a]) * (s / len), 0.6) >= 0.25;
+      ok = world.clearance(g.nodes[a] + (g.nodes[b] - g.nodes[a]) * (s / len), 0.6) >= 0.25;
     }
     if (!ok) continue;
-    adj[a].push_back({b, len});
-    adj[b].push_back({a, len});
+    g.adj[a].push_back({b, len});
+    g.adj[b].push_back({a, len});
   }
-  if (nodes.empty()) throw std::runtime_error("no flyable PRM node in the world");
-  size_t edges = 0;
-  for (const auto& a : adj) edges += a.size();
-  std::fprintf(stderr, "route: %zu PRM nodes, %zu flyable, %zu flyable edges\n", prm.nodes_m.size(),
-               nodes.size(), edges / 2);
-  int current = 0;
-  for (size_t i = 0; i < nodes.size(); ++i) {
-    if ((nodes[i] - start).norm() < (nodes[current] - start).norm()) {
-      current = static_cast<int>(i);
+  if (g.nodes.empty()) return g;
+  for (size_t i = 0; i < g.nodes.size(); ++i) {
+    if ((g.nodes[i] - start).norm() < (g.nodes[g.start_node] - start).norm()) {
+      g.start_node = static_cast<int>(i);
     }
   }
+  std::vector<char> seen(g.nodes.size(), 0);
+  std::vector<int> stack{g.start_node};
+  seen[g.start_node] = 1;
+  while (!stack.empty()) {
+    const int u = stack.back();
+    stack.pop_back();
+    ++g.reachable;
+    for (const auto& [v, w] : g.adj[u]) {
+      (void)w;
+      if (!seen[v]) seen[v] = 1, stack.push_back(v);
+    }
+  }
+  return g;
+}
+
+Route planRoute(const sim::VoxelWorld& world, double max_length_m) {
+  const SketchInput precise = generatedSketch(world, sim::SketchVariant::kPrecise, 1);
+  if (world.start_poses.empty()) throw std::runtime_error("the world has no start pose");
+  const Vector3d start = world.start_poses.front().position_m;
+  // 1 m nodes (sketch frame) unless doors cut the start off from nearly all of the world: ed21's
+  // rooms are joined by doors that straight edges between 1 m nodes rarely pass with clearance
+  // (14 of 229 flyable nodes reachable), and the flight stayed in its start room (2026-11-25).
+  // The bound leaves the generated worlds' routes as they were (indoor: 58 of 148 reachable).
+  FlyableGraph g;
+  for (double spacing : {1.0, 0.5, 0.25}) {
+    g = flyableGraph(world, precise, spacing, start);
+    std::fprintf(stderr,
+                 "route: %.2f m PRM, %zu nodes, %zu flyable, %zu reachable from the start\n",
+                 spacing, g.prm_nodes, g.nodes.size(), g.reachable);
+    if (4 * g.reachable >= g.nodes.size()) break;
+  }
+  if (g.nodes.empty()) throw std::runtime_error("no flyable PRM node in the world");
+  const std::vector<Vector3d>& nodes = g.nodes;
+  const auto& adj = g.adj;
+  int current = g.start_node;
   Route route;
   route.waypoints_m.push_back(start);
   route.waypoints_m.push_back(nodes[current]);
@@ -419,6 +480,186 @@ void singleFrame(const reg::SketchRegistration& registration, const reg::GeoCont
   if (rc_rank && *rc_rank < static_cast<size_t>(std::ceil(0.05 * n))) ++stats.cosine_success;
 }
 
+/// Writes what a failing frame saw (--dump-dir): the observed descriptor, the descriptor of the
+/// candidate nearest the truth and of the best-ranked one, their similarities and ranks (text),
+/// and a top-down picture around the robot (world frame, 0.1 m/px): the sketch walls mapped by
+/// the truth (grey), the observation's descriptor input (red), the observed descriptor (red
+/// line), the truth candidate's descriptor under the truth (green) and the best-ranked
+/// candidate's under its own shift yaw at the truth scale (orange).
+void dumpFrame(const std::string& dir, uint64_t seed, double t_s,
+               const reg::SketchRegistration& registration, const reg::Observation& obs,
+               const Vector2d& robot_m, const Sim2& T_truth, const reg::GeoContext& observed,
+               const reg::Points2d& sketch_walls) {
+  const reg::CandidateDatabase& db = registration.database();
+  const reg::RetrievalConfig rc = reg::retrievalConfig(registration.config());
+  std::vector<reg::Candidate> all = db.scoreAll(observed, rc.weights, rc.try_reversed);
+  const Vector2d truth = T_truth.inverse().apply(robot_m);
+  size_t truth_rank = all.size(), nearest = 0;
+  double best_d = 1e300;
+  for (size_t i = 0; i < db.size(); ++i) {
+    const double d = (db.locations()[i] - truth).norm();
+    if (d < best_d) best_d = d, nearest = i;
+  }
+  for (size_t r = 0; r < all.size(); ++r) {
+    if (all[r].index == static_cast<int>(nearest)) truth_rank = r;
+  }
+  const std::string stem = dir + "/s" + std::to_string(seed) + "_t" + fmt(t_s, 0);
+  std::ofstream txt(stem + ".txt");
+  const auto vec = [&](const std::vector<float>& v) {
+    std::ostringstream os;
+    for (float x : v) os << " " << fmt(x, 1);
+    return os.str();
+  };
+  txt << "robot " << robot_m.transpose() << " truth_sketch " << truth.transpose() << " yaw "
+      << T_truth.yaw_rad << " scale " << T_truth.scale << " reflected " << T_truth.reflected
+      << "\nobserved cv " << observed.cv << " points " << obs.descriptor_m.size() << "\n"
+      << vec(observed.range_m) << "\n";
+  const auto describe = [&](const char* what, const reg::Candidate& c, size_t rank) {
+    txt << what << " index " << c.index << " at " << c.c_sketch.transpose() << " rank " << rank
+        << " / " << all.size() << " S " << c.score << " cos " << c.s_cos << " fft " << c.s_fft
+        << " cv " << c.s_cv << " (prior cv " << db.descriptor(c.index).cv << ") yaw " << c.yaw_rad
+        << " reflected " << c.reflected << "\n"
+        << vec(db.descriptor(c.index).range_m) << "\n";
+  };
+  if (truth_rank < all.size()) describe("truth", all[truth_rank], truth_rank);
+  if (!all.empty()) describe("top", all.front(), 0);
+
+  constexpr double kMpp = 0.1;
+  constexpr int kSize = 700;
+  cv::Mat img(kSize, kSize, CV_8UC3, cv::Scalar(255, 255, 255));
+  const auto px = [&](const Vector2d& w) {
+    const Vector2d d = (w - robot_m) / kMpp;
+    return cv::Point(static_cast<int>(kSize / 2 + d.x()), static_cast<int>(kSize / 2 - d.y()));
+  };
+  for (const Vector2d& s : sketch_walls)
+    cv::circle(img, px(T_truth.apply(s)), 1, {160, 160, 160}, -1);
+  for (const Vector2d& o : obs.descriptor_m) cv::circle(img, px(o), 1, {0, 0, 220}, -1);
+  const int n = static_cast<int>(observed.range_m.size());
+  const auto polar = [&](const std::vector<float>& range, double yaw, double scale,
+                         const cv::Scalar& colour) {
+    std::vector<cv::Point> poly;
+    for (int i = 0; i < n; ++i) {
+      const double a = 2.0 * M_PI * i / n + yaw;
+      const double r = range[static_cast<size_t>(i)] * scale;
+      poly.push_back(px(robot_m + r * Vector2d(std::cos(a), std::sin(a))));
+    }
+    cv::polylines(img, poly, true, colour, 1);
+  };
+  polar(observed.range_m, 0.0, 1.0, {0, 0, 255});
+  if (!all.empty())
+    polar(db.descriptor(all.front().index).range_m, all.front().yaw_rad, T_truth.scale,
+          {0, 140, 255});
+  if (truth_rank < all.size()) {
+    polar(db.descriptor(nearest).range_m, T_truth.yaw_rad, T_truth.scale, {0, 170, 0});
+  }
+  cv::circle(img, px(robot_m), 4, {255, 0, 0}, -1);
+  cv::imwrite(stem + ".png", img);
+}
+
+/// What --verbose prints about the truth (or --reference) per frame, beyond its fitness: whether
+/// FindCand selected a candidate near it, the triplet of the last three used frames' correct
+/// candidates as GetPotTran would build it, and the verifier's representative nearest it with
+/// what Scale-ICP makes of it.
+struct TruthDiagnostics {
+  Sim2 truth;
+  const reg::Points2d& sketch_walls;
+  const reg::ScaleIcp& icp;
+  double d_cand_m;
+  double near_m;  ///< representatives placed within this of the truth are reported
+  std::vector<std::pair<Vector2d, std::optional<Vector2d>>> used_frames;
+
+  void frame(const Vector2d& p, const reg::RegistrationResult& r,
+             const reg::SketchRegistration& registration, const reg::Observation& obs,
+             const reg::ObservedIndex& index) {
+    const Vector2d truth_c = truth.inverse().apply(p);
+    const auto& cands = r.last_frame.candidates;
+    const auto hit = firstCorrect(cands, truth_c, d_cand_m);
+    std::fprintf(stderr, "           truth candidate: %s of %zu selected (used %d)\n",
+                 hit ? std::to_string(*hit).c_str() : "none", cands.size(),
+                 r.last_frame.used_for_verification);
+    if (r.last_frame.used_for_verification) {
+      used_frames.push_back(
+          {p, hit ? std::optional<Vector2d>(cands[*hit].c_sketch) : std::nullopt});
+    }
+    if (used_frames.size() >= 3) {
+      // The triplet of the last three used frames' correct candidates, as GetPotTran sees it.
+      const auto& f = used_frames;
+      const size_t m = f.size();
+      if (f[m - 1].second && f[m - 2].second && f[m - 3].second) {
+        const reg::Points2d c = {*f[m - 3].second, *f[m - 2].second, *f[m - 1].second};
+        const reg::Points2d w = {f[m - 3].first, f[m - 2].first, f[m - 1].first};
+        const reg::Sim2Fit fit = reg::fitSim2(c, w, truth.reflected);
+        double sp = 0.0;
+        const Vector2d mean = (w[0] + w[1] + w[2]) / 3.0;
+        for (const auto& q : w) sp += (q - mean).squaredNorm();
+        sp = std::sqrt(sp / 3.0);
+        std::fprintf(stderr,
+                     "           correct triplet: scale %.3f yaw %.1f deg, residual/spread "
+                     "%.2f, fd %.3f, placement %.2f m\n",
+                     fit.T_world_sketch.scale, fit.T_world_sketch.yaw_rad * 180 / M_PI,
+                     fit.rms_residual_m / sp,
+                     reg::fourierDistance(reg::fourierDescriptor(c), reg::fourierDescriptor(w)),
+                     placementRms(sketch_walls, fit.T_world_sketch, truth));
+      } else {
+        std::fprintf(stderr, "           correct triplet: incomplete\n");
+      }
+    }
+    // Did the verifier hand a transform near the truth to Scale-ICP, and what became of it?
+    const auto& reps = registration.verifier().representatives();
+    for (size_t i = 0; i < reps.size(); ++i) {
+      const double pl = placementRms(sketch_walls, reps[i].T_world_sketch, truth);
+      if (pl > near_m) continue;
+      const reg::IcpResult f = icp.refine(reps[i].T_world_sketch, obs.icp_m, 0.0, &index);
+      std::fprintf(stderr,
+                   "           representative %zu of %zu at placement %.2f m (cluster %d, %d "
+                   "corr., fd %.3f): refined F %.2f inliers %.2f usable %d, placement %.2f m\n",
+                   i, reps.size(), pl, reps[i].cluster_size, reps[i].num_correspondences,
+                   reps[i].fd_distance, f.fitness_m, f.inlier_ratio, f.usable,
+                   placementRms(sketch_walls, f.T_world_sketch, truth));
+      break;
+    }
+  }
+};
+
+/// A top-down picture of a whole flight (--dump-dir, 0.1 m/px): the world's walls (grey), every
+/// occupied column of the local map (light orange) and its wall columns (red), the route
+/// (magenta), the sketch walls under the reference (green) and under the final best hypothesis
+/// (blue).
+void dumpFlight(const std::string& path, const reg::Points3d& cloud, const Vector3d& robot_m,
+                const reg::ObservationConfig& observation, const WorldWalls& world_walls,
+                const Route& route, const reg::Points2d& sketch_walls,
+                const std::optional<Sim2>& reference, const std::optional<Sim2>& best) {
+  const reg::ProjectedMap all = reg::observeLocalMap(cloud, robot_m, observation, 1e6);
+  constexpr double kMpp = 0.1;
+  Vector2d lo = Vector2d::Constant(1e9), hi = -lo;
+  for (const auto& w : world_walls.sample) lo = lo.cwiseMin(w), hi = hi.cwiseMax(w);
+  lo -= Vector2d(5, 5);
+  hi += Vector2d(5, 5);
+  cv::Mat img(static_cast<int>((hi.y() - lo.y()) / kMpp),
+              static_cast<int>((hi.x() - lo.x()) / kMpp), CV_8UC3, cv::Scalar(255, 255, 255));
+  const auto px = [&](const Vector2d& w) {
+    return cv::Point(static_cast<int>((w.x() - lo.x()) / kMpp),
+                     img.rows - 1 - static_cast<int>((w.y() - lo.y()) / kMpp));
+  };
+  for (const auto& w : world_walls.sample) cv::circle(img, px(w), 1, {180, 180, 180}, -1);
+  if (reference) {
+    for (const auto& q : sketch_walls) cv::circle(img, px(reference->apply(q)), 1, {0, 170, 0}, -1);
+  }
+  if (best) {
+    for (const auto& q : sketch_walls) cv::circle(img, px(best->apply(q)), 1, {255, 0, 0}, -1);
+  }
+  reg::ObservationConfig every = observation;
+  every.wall_columns = false;
+  for (const auto& o : reg::observeLocalMap(cloud, robot_m, every, 1e6).points_m)
+    cv::circle(img, px(o), 1, {120, 200, 255}, -1);
+  for (const auto& o : all.points_m) cv::circle(img, px(o), 2, {0, 0, 230}, -1);
+  for (size_t i = 1; i < route.waypoints_m.size(); ++i) {
+    cv::line(img, px(route.waypoints_m[i - 1].head<2>()), px(route.waypoints_m[i].head<2>()),
+             {200, 0, 200}, 1);
+  }
+  cv::imwrite(path, img);
+}
+
 // --------------------------------------------------------------------------------------------
 // One trial.
 
@@ -440,6 +681,7 @@ struct TrialResult {
   std::vector<double> frame_cpu_ms;
   std::vector<double> truth_fitness_m;  ///< F of the true transform per frame (with truth)
   std::vector<double> truth_inliers;    ///< its inlier ratio
+  std::vector<double> truth_coverage;   ///< its coverage
   int truth_accepted = 0;               ///< frames on which the truth passes the fitness test
 };
 
@@ -459,9 +701,15 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
 
   std::unique_ptr<Tree2> truth_tree;
   std::unique_ptr<reg::ScaleIcp> truth_icp;
-  if (sketch.T_world_sketch) {
+  // Diagnostics (truth fitness, single-frame retrieval) also run against a reference placement of
+  // a real sketch (--reference); its success is still judged by the wall fit.
+  const std::optional<Sim2> diag_truth =
+      sketch.T_world_sketch ? sketch.T_world_sketch : opt.reference;
+  if (diag_truth) {
     truth_icp =
         std::make_unique<reg::ScaleIcp>(prior.boundary_sketch_m, reg::scaleIcpConfig(config));
+  }
+  if (sketch.T_world_sketch) {
     reg::Points2d mapped;
     for (const Vector2d& p : prior.boundary_sketch_m)
       mapped.push_back(sketch.T_world_sketch->apply(p));
@@ -478,6 +726,18 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
            fit->coverage >= opt.wall_inlier_ratio;
   };
 
+  std::optional<TruthDiagnostics> diagnostics;
+  if (diag_truth) {
+    diagnostics.emplace(TruthDiagnostics{*diag_truth,
+                                         prior.boundary_sketch_m,
+                                         *truth_icp,
+                                         4.0 * opt.d_gap_m,
+                                         6.0 * opt.success_rmse_m,
+                                         {}});
+  }
+  reg::Points3d last_cloud;
+  Vector3d last_p = Vector3d::Zero();
+  std::optional<Sim2> last_best;
   sim::LivoxLidar lidar(sim::LivoxLidarConfig{}, seed);
   efs::lio::LocalMapConfig lc;
   lc.voxel_size_m = 0.2;
@@ -504,6 +764,11 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
     for (const Eigen::Vector3f& v : map.points()) cloud.push_back(v.cast<double>());
     const double c0 = threadCpuMs();
     const reg::RegistrationResult& r = registration.addFrame(t, p, cloud);
+    if (!opt.dump_dir.empty()) {
+      last_cloud = cloud;
+      last_p = p;
+      if (!r.hypotheses.empty()) last_best = r.hypotheses.front().T_world_sketch;
+    }
     tr.frame_cpu_ms.push_back(threadCpuMs() - c0);
     ++tr.frames;
     tr.final_status = reg::toString(r.status);
@@ -533,6 +798,21 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
                    fmt(err).c_str(), r.message.c_str(), r.last_frame.candidates.size(),
                    vs.anchor_pairs, vs.pairs_scale_ok, vs.triplets_tested, vs.triplets_accepted,
                    vs.tracks, vs.representatives, r.last_frame.icp_runs);
+      for (const auto* list : {&r.hypotheses, &r.mirrored_hypotheses}) {
+        for (const reg::Hypothesis& h : *list) {
+          double e = std::nan(""), pl = std::nan("");
+          WallFit f;
+          const bool good = judge(h.T_world_sketch, &e, &pl, &f);
+          std::fprintf(
+              stderr,
+              "           %s %d: F %.2f inliers %.2f coverage %.2f age %d scale %.3f yaw %.1f deg; "
+              "walls median %.2f m, on world %.0f %%, world covered %.0f %%%s\n",
+              list == &r.hypotheses ? "hypothesis" : "mirrored", h.id, h.fitness_m, h.inlier_ratio,
+              h.coverage, h.age_frames, h.T_world_sketch.scale,
+              h.T_world_sketch.yaw_rad * 180.0 / M_PI, f.median_m, 100.0 * f.inlier_ratio,
+              100.0 * f.coverage, good ? " (success)" : "");
+        }
+      }
     }
     if (truth_icp) {
       // What the fitness test says about the true transform on this frame's observation.
@@ -541,24 +821,39 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
       const efs::PointKdTree2d dense(
           efs::PointKdTree2d::Points(obs.icp_dense_m.begin(), obs.icp_dense_m.end()));
       const reg::ObservedIndex index{&dense, p.head<2>()};
-      const reg::IcpResult e = truth_icp->evaluate(*sketch.T_world_sketch, obs.icp_m, &index);
+      const reg::IcpResult e = truth_icp->evaluate(*diag_truth, obs.icp_m, &index);
       if (e.num_points > 0) {
         tr.truth_fitness_m.push_back(e.fitness_m);
         tr.truth_inliers.push_back(e.inlier_ratio);
+        tr.truth_coverage.push_back(e.coverage);
         tr.truth_accepted += e.valid && e.fitness_m <= config.fitness_threshold_m;
       }
       if (opt.verbose) {
-        std::fprintf(stderr,
-                     "           truth: F %.2f (forward %.2f, reverse %.2f), inliers %.2f, %d "
-                     "points, valid %d\n",
-                     e.fitness_m, e.forward_fitness_m, e.reverse_fitness_m, e.inlier_ratio,
-                     e.num_points, e.valid);
+        std::fprintf(
+            stderr,
+            "           truth: F %.2f (forward %.2f, reverse %.2f), inliers %.2f, coverage "
+            "%.2f, %d points, valid %d\n",
+            e.fitness_m, e.forward_fitness_m, e.reverse_fitness_m, e.inlier_ratio, e.coverage,
+            e.num_points, e.valid);
+        diagnostics->frame(p.head<2>(), r, registration, obs, index);
       }
     }
-    if (opt.single_frame && sketch.T_world_sketch && r.last_frame.descriptor.valid) {
-      const Vector2d truth = sketch.T_world_sketch->inverse().apply(p.head<2>());
+    if (opt.single_frame && diag_truth && r.last_frame.descriptor.valid) {
+      const Vector2d truth = diag_truth->inverse().apply(p.head<2>());
+      const int before = sf.success[1];
       singleFrame(registration, r.last_frame.descriptor, truth, 4.0 * opt.d_gap_m, sf);
+      if (!opt.dump_dir.empty() && sf.success[1] == before) {
+        const reg::Observation obs =
+            reg::observe(cloud, p, config.observation, config.descriptor.max_range_m);
+        dumpFrame(opt.dump_dir, seed, t, registration, obs, p.head<2>(), *diag_truth,
+                  r.last_frame.descriptor, prior.boundary_sketch_m);
+      }
     }
+  }
+  if (!opt.dump_dir.empty() && !last_cloud.empty()) {
+    dumpFlight(opt.dump_dir + "/final_s" + std::to_string(seed) + ".png", last_cloud, last_p,
+               config.observation, world_walls, route, prior.boundary_sketch_m, diag_truth,
+               last_best);
   }
   // The paper's criterion: a successful registration occurred during the flight.
   tr.success = tr.ttc_s.has_value();
@@ -581,6 +876,8 @@ Options parse(int argc, char** argv) {
                         "wall-median-m",
                         "wall-inlier-ratio",
                         "markdown",
+                        "dump-dir",
+                        "reference",
                         "require-success",
                         "fitness-threshold-m",
                         "eta",
@@ -594,7 +891,11 @@ Options parse(int argc, char** argv) {
                         "column-cell-m",
                         "wall-min-height-m",
                         "wall-max-gap-m",
-                        "icp-range-m"}) {
+                        "icp-range-m",
+                        "max-range-m",
+                        "unknown-empty-bins",
+                        "settled-coverage",
+                        "coverage-weight-m"}) {
     valued.insert(k);
   }
   const efs::CliArgs args(argc, argv, valued, {"no-single-frame", "verbose"});
@@ -624,6 +925,17 @@ Options parse(int argc, char** argv) {
     o.require_success = static_cast<int>(args.integer("require-success", 1));
   o.single_frame = !args.flag("no-single-frame");
   o.verbose = args.flag("verbose");
+  o.dump_dir = args.str("dump-dir", "");
+  if (args.has("reference")) {
+    // "yaw_rad scale tx ty [reflected]", e.g. a placement found offline for a hand drawing.
+    std::istringstream is(args.str("reference", ""));
+    Sim2 T;
+    int reflected = 0;
+    if (!(is >> T.yaw_rad >> T.scale >> T.t_m.x() >> T.t_m.y()))
+      throw efs::CliError("--reference needs \"yaw_rad scale tx ty [reflected]\"");
+    if (is >> reflected) T.reflected = reflected != 0;
+    o.reference = T;
+  }
   o.registration.fitness_threshold_m =
       args.number("fitness-threshold-m", o.registration.fitness_threshold_m);
   o.registration.retrieval.eta = args.number("eta", o.registration.retrieval.eta);
@@ -649,6 +961,15 @@ Options parse(int argc, char** argv) {
       args.number("wall-max-gap-m", o.registration.observation.wall_max_gap_m);
   o.registration.observation.icp_range_m =
       args.number("icp-range-m", o.registration.observation.icp_range_m);
+  o.registration.descriptor.max_range_m =
+      args.number("max-range-m", o.registration.descriptor.max_range_m);
+  o.registration.descriptor.empty_observed_bins_unknown =
+      args.integer("unknown-empty-bins",
+                   o.registration.descriptor.empty_observed_bins_unknown ? 1 : 0) != 0;
+  o.registration.settled_coverage =
+      args.number("settled-coverage", o.registration.settled_coverage);
+  o.registration.coverage_weight_m =
+      args.number("coverage-weight-m", o.registration.coverage_weight_m);
   o.registration.validate();
   efs::requireInRange("trials", o.trials, 1, 1000);
   efs::requirePositive("scale-guess", o.scale_guess_m_per_px);
@@ -705,11 +1026,17 @@ int main(int argc, char** argv) {
       const TrialResult& t = trials.back();
       std::fprintf(stderr,
                    "  trial %d (seed %llu): %s, TTC %s s, error %s m, wall median %s m, %d frames, "
-                   "status %s; truth F median %s m, inliers median %s, accepted on %d frames\n",
+                   "status %s; truth F median %s m, inliers median %s, coverage median %s min %s, "
+                   "accepted on %d frames\n",
                    i + 1, static_cast<unsigned long long>(seed), t.success ? "success" : "FAILURE",
                    t.ttc_s ? fmt(*t.ttc_s, 0).c_str() : "-", fmt(t.final_error_m).c_str(),
                    fmt(t.final_wall.median_m).c_str(), t.frames, t.final_status.c_str(),
                    fmt(median(t.truth_fitness_m)).c_str(), fmt(median(t.truth_inliers)).c_str(),
+                   fmt(median(t.truth_coverage)).c_str(),
+                   fmt(t.truth_coverage.empty()
+                           ? std::nan("")
+                           : *std::min_element(t.truth_coverage.begin(), t.truth_coverage.end()))
+                       .c_str(),
                    t.truth_accepted);
     }
 

@@ -32,6 +32,11 @@ struct DescriptorConfig {
   /// exhaustive. Must divide num_bins.
   int coarse_shift_factor = 3;
   int coarse_shift_keep = 3;
+  /// An empty bin of the observed descriptor means "nothing seen there within range", not "no
+  /// wall": S_cos then leaves the prior's bin out. (The sketch's range limit is in sketch metres,
+  /// the observation's in world metres; at a true scale above the guess the sketch sees walls
+  /// beyond the observation's range, which an empty observed bin would otherwise count against.)
+  bool empty_observed_bins_unknown = true;
 
   void validate() const;
   HprConfig hprConfig() const;
@@ -54,8 +59,9 @@ GeoContext geoContextFromBuffer(const PolarDepthBuffer& buffer, const Descriptor
 /// Fills fft_magnitude, cv and valid from range_m.
 void computeFeatures(GeoContext& descriptor, const DescriptorConfig& config);
 
-/// S_inv_cos of two equally long range vectors (no shift), in [0, 1].
-double inverseCosine(const float* prior, const float* observed, int n);
+/// S_inv_cos of two equally long range vectors (no shift), in [0, 1]. `unknown_empty`: an empty
+/// observed bin means "not seen" and leaves the bin out (see DescriptorConfig).
+double inverseCosine(const float* prior, const float* observed, int n, bool unknown_empty = false);
 
 struct ShiftMatch {
   double score = 0.0;     ///< S_cos = max over shifts of S_inv_cos
@@ -72,11 +78,15 @@ ShiftMatch bestColumnShift(const GeoContext& prior, const GeoContext& observed, 
 
 /// The observation descriptor laid out twice (plain and mirrored) so that every column shift is
 /// a contiguous window: prepared once per frame, used for every candidate.
+/// With `empty_is_unknown`, the observation's empty bins are unseen (DescriptorConfig::
+/// empty_observed_bins_unknown) and every shift leaves them out.
 struct ShiftTables {
-  explicit ShiftTables(const GeoContext& observed);
+  explicit ShiftTables(const GeoContext& observed, bool empty_is_unknown = false);
   int n = 0, n_coarse = 0;
   std::vector<float> plain, reversed;
   std::vector<float> coarse_plain, coarse_reversed;
+  /// Positions of unseen bins in each table (empty unless empty_is_unknown).
+  std::vector<int> unseen_plain, unseen_reversed, unseen_coarse_plain, unseen_coarse_reversed;
 };
 /// Exhaustive over all N_b shifts (and mirrored shifts).
 ShiftMatch bestColumnShift(const float* prior_range_m, const ShiftTables& tables,

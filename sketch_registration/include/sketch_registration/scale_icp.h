@@ -74,6 +74,9 @@ struct IcpResult {
   double inlier_ratio = 0.0;  ///< the smaller of the two directions' inlier ratios
   double forward_fitness_m = 1e9;  ///< observation -> sketch
   double reverse_fitness_m = 0.0;  ///< visible sketch -> observation (0 when not evaluated)
+  /// Share of all observed points within inlier_distance_m of the mapped sketch, those outside
+  /// the sketch's extent counted as unexplained.
+  double coverage = 0.0;
   int iterations = 0;
   int num_points = 0;           ///< observed points used
   bool valid = false;           ///< usable and inlier_ratio >= min_inlier_ratio

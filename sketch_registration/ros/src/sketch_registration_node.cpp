@@ -61,6 +61,9 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   p.get("min_inlier_ratio", r.icp.min_inlier_ratio);
   p.get("kept_min_inlier_ratio", r.kept_min_inlier_ratio);
   p.get("confirm_frames", r.confirm_frames);
+  p.get("settled_coverage", r.settled_coverage);
+  p.get("coverage_weight_m", r.coverage_weight_m);
+  p.get("empty_observed_bins_unknown", r.descriptor.empty_observed_bins_unknown);
   p.get("wall_columns", r.observation.wall_columns);
   p.get("slice_min_dz_m", r.observation.slice_min_dz_m);
   p.get("slice_max_dz_m", r.observation.slice_max_dz_m);
