@@ -1,6 +1,7 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include "prior_guided_planner/observation_map.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <bitset>
 #include <cmath>
@@ -19,6 +20,8 @@ void ObservationMapConfig::validate() const {
                  ObservationMap::kNumDirectionBins);
   requireInRange("observation.direction_rule_max_distance_m", direction_rule_max_distance_m, 0.0,
                  max_range_m);
+  requireInRange("observation.facing_max_distance_m", facing_max_distance_m, 0.0, max_range_m);
+  requireInRange("observation.facing_min_cosine", facing_min_cosine, 0.0, 1.0);
 }
 
 const std::vector<VoxelKey>& neighbourOffsets26() {
@@ -73,6 +76,32 @@ int ObservationMap::directionBin(const Eigen::Vector3d& v) {
   return e * 8 + a;
 }
 
+std::optional<Eigen::Vector3d> ObservationMap::surfaceNormal(const VoxelKey& k) const {
+  constexpr int kMinCells = 5;
+  Eigen::Vector3d pts[27];
+  int n = 0;
+  const auto add = [&](const VoxelKey& key) {
+    auto it = cells_.find(key);
+    if (it != cells_.end() && it->second.hits > 0)
+      pts[n++] = (it->second.hit_sum_m / static_cast<float>(it->second.hits)).cast<double>();
+  };
+  add(k);
+  for (const VoxelKey& o : neighbourOffsets26()) add({k.x + o.x, k.y + o.y, k.z + o.z});
+  if (n < kMinCells) return std::nullopt;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int i = 0; i < n; ++i) mean += pts[i];
+  mean /= n;
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (int i = 0; i < n; ++i) cov += (pts[i] - mean) * (pts[i] - mean).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+  es.computeDirect(cov);
+  const Eigen::Vector3d ev = es.eigenvalues();  // ascending
+  // A plane: little spread across it, real spread along both of its axes (a line of cells or a
+  // blob gives no normal to trust).
+  if (!(ev(1) > 0.0) || ev(0) > 0.3 * ev(1)) return std::nullopt;
+  return es.eigenvectors().col(0).normalized();
+}
+
 const SurfaceCell* ObservationMap::cell(const VoxelKey& k) const {
   auto it = cells_.find(k);
   return it == cells_.end() ? nullptr : &it->second;
@@ -117,8 +146,18 @@ ObservationUpdateStats ObservationMap::insertScan(const Eigen::Vector3d& origin,
   const double max_r2 = config_.max_range_m * config_.max_range_m;
   const double dir_r = config_.direction_rule_max_distance_m;
   const bool dir_rule = config_.min_view_directions > 0;
+  const double facing_r = config_.facing_max_distance_m;
   std::vector<VoxelKey> fresh;        // new surface cells
   std::vector<VoxelKey> became_well;  // cells that turned well observed
+  // Rule (c) needs the normal, which needs this scan's centroids: poorly observed cells seen
+  // within facing_r, with the ray of their nearest point of this scan.
+  std::unordered_map<VoxelKey, Eigen::Vector3d, VoxelKeyHash> facing_candidates;
+  const auto markWell = [&](const VoxelKey& k, SurfaceCell& c) {
+    c.well_observed = true;
+    ++num_well_;
+    columns_[{k.x, k.y, 0}] = 2;
+    became_well.push_back(k);
+  };
   for (const Eigen::Vector3d& p : points) {
     if (!p.allFinite()) {
       ++st.points_rejected_nonfinite;
@@ -140,16 +179,23 @@ ObservationUpdateStats ObservationMap::insertScan(const Eigen::Vector3d& origin,
       if (col < 1) col = 1;
     }
     ++c.hits;
+    c.hit_sum_m += p.cast<float>();
     if (c.well_observed) continue;
     const double r = std::sqrt(r2);
     if (r < c.min_distance_m) c.min_distance_m = static_cast<float>(r);
     if (dir_rule && r <= dir_r) c.view_direction_bins |= 1u << directionBin(to_sensor);
     if (isWellObservedRule(config_, c.min_distance_m, c.view_direction_bins)) {
-      c.well_observed = true;
-      ++num_well_;
-      columns_[{k.x, k.y, 0}] = 2;
-      became_well.push_back(k);
+      markWell(k, c);
+    } else if (r <= facing_r) {
+      auto [fit, first] = facing_candidates.try_emplace(k, to_sensor);
+      if (!first && r2 < fit->second.squaredNorm()) fit->second = to_sensor;
     }
+  }
+  for (const auto& [k, to_sensor] : facing_candidates) {
+    SurfaceCell& c = cells_[k];
+    if (c.well_observed) continue;
+    const std::optional<Eigen::Vector3d> n = surfaceNormal(k);
+    if (n && std::abs(n->dot(to_sensor.normalized())) >= config_.facing_min_cosine) markWell(k, c);
   }
   st.new_cells = fresh.size();
   st.newly_well_observed = became_well.size();

@@ -74,8 +74,11 @@ TEST(FrontierClusters, BoxRoomHasFrontiersUntilEveryWallWasSeenClosely) {
 
 TEST(FrontierClusters, UntouchedClustersKeepTheirIds) {
   // Two separate walls far apart, each with a frontier edge; a new scan at one leaves the
-  // other's cluster (and so its viewpoints) alone.
-  ObservationMap m;
+  // other's cluster (and so its viewpoints) alone. Poorly observed by distance alone: the
+  // head-on rule would count a wall seen from 7 m in front of it as well observed.
+  ObservationMapConfig oc;
+  oc.facing_max_distance_m = 0.0;
+  ObservationMap m(oc);
   FrontierClusterer fc;
   auto wallScan = [&](double x0, double sensor_dist) {
     std::vector<Eigen::Vector3d> pts;

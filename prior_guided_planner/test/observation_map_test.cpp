@@ -2,7 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <optional>
+#include <vector>
 
 #include "efs_common/config_check.h"
 #include "prior_guided_planner/observation_map.h"
@@ -63,6 +66,51 @@ TEST(ObservationMap, ThreeDirectionsFromMidRangeMakeACellWellObserved) {
     far.insertScan(p + o, {p});
   EXPECT_FALSE(far.isWellObserved(far.key(p)));
   EXPECT_EQ(far.cell(far.key(p))->hits, 4u);
+}
+
+/// Points on the plane patch p0 + u * a + v * b, u, v in [-1, 1] m, every 0.1 m.
+std::vector<Eigen::Vector3d> planePatch(const Eigen::Vector3d& p0, const Eigen::Vector3d& a,
+                                        const Eigen::Vector3d& b) {
+  std::vector<Eigen::Vector3d> pts;
+  for (double u = -1.0; u <= 1.0; u += 0.1)
+    for (double v = -1.0; v <= 1.0; v += 0.1) pts.push_back(p0 + u * a + v * b);
+  return pts;
+}
+
+// Rule (c): a wall seen head-on from 10 m is well observed after one scan; seen at a grazing
+// angle from the same distance, from 13 m, or with the rule off, it is not.
+TEST(ObservationMap, AWallSeenHeadOnFromMidRangeIsWellObserved) {
+  const Eigen::Vector3d o(0.15, 0.15, 0.15);
+  const Eigen::Vector3d ey = Eigen::Vector3d::UnitY(), ez = Eigen::Vector3d::UnitZ();
+  const auto wellAt = [](const ObservationMap& m, const Eigen::Vector3d& p) {
+    return m.isWellObserved(m.key(p));
+  };
+  const Eigen::Vector3d wall(10.05, 0.15, 0.15);  // wall x = 10.05, facing the sensor
+  ObservationMap m;
+  m.insertScan(o, planePatch(wall, ey, ez));
+  EXPECT_TRUE(wellAt(m, wall));
+  const std::optional<Eigen::Vector3d> n = m.surfaceNormal(m.key(wall));
+  ASSERT_TRUE(n.has_value());
+  EXPECT_GT(std::abs(n->x()), 0.99);
+
+  ObservationMapConfig off;
+  off.facing_max_distance_m = 0.0;
+  ObservationMap m_off(off);
+  m_off.insertScan(o, planePatch(wall, ey, ez));
+  EXPECT_FALSE(wellAt(m_off, wall));
+
+  ObservationMap far;
+  const Eigen::Vector3d far_wall(13.05, 0.15, 0.15);
+  far.insertScan(o, planePatch(far_wall, ey, ez));
+  EXPECT_FALSE(wellAt(far, far_wall));
+
+  // A wall along the line of sight (plane y = 2.05, x 9..11): the rays meet it at about 78 deg
+  // from its normal.
+  ObservationMap grazing;
+  const Eigen::Vector3d side(10.05, 2.05, 0.15);
+  grazing.insertScan(o, planePatch(side, Eigen::Vector3d::UnitX(), ez));
+  EXPECT_FALSE(wellAt(grazing, side));
+  ASSERT_TRUE(grazing.surfaceNormal(grazing.key(side)).has_value());
 }
 
 TEST(ObservationMap, FrontierIsPoorlyObservedNextToWellObserved) {

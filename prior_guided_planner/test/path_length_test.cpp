@@ -495,7 +495,11 @@ TEST(PlannerInputs, PathLengthFnAndObservationQueryFollowTheMaps) {
   s.room = {Eigen::Vector3d(-8, -8, -0.05), Eigen::Vector3d(8, 8, 5)};
   s.solids = testing::hollowBox(Eigen::Vector3d(1, 1, -0.05), Eigen::Vector3d(4, 4, 3), 0.3);
   OccupancyMap occ;
-  ObservationMap obs;
+  // Distance rules only, so that the far corner stays poorly observed (the query is what is
+  // tested here, the rules in observation_map_test).
+  ObservationMapConfig oc;
+  oc.facing_max_distance_m = 0.0;
+  ObservationMap obs(oc);
   for (const Eigen::Vector3d& o : {Eigen::Vector3d(-3, -3, 2), Eigen::Vector3d(2.5, 2.5, 1.5)}) {
     const auto pts = s.scanSphere(o, 1.0);
     occ.insertScan(o, pts);

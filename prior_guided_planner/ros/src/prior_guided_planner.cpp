@@ -72,6 +72,8 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("well_observed_distance_m", e.observation.well_observed_distance_m);
   e.viewpoint.useful_range_m = e.observation.well_observed_distance_m;
   p.get("min_view_directions", e.observation.min_view_directions);
+  p.get("facing_max_distance_m", e.observation.facing_max_distance_m);
+  p.get("facing_min_cosine", e.observation.facing_min_cosine);
   p.get("min_cluster_cells", e.frontier.min_cluster_cells);
   p.get("max_cluster_cells", e.frontier.max_cluster_cells);
   double pitch_deg = e.fov.mount_pitch_rad / kDegToRad;
