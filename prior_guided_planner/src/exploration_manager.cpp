@@ -121,6 +121,9 @@ void ExplorationManager::setHypotheses(std::vector<Hypothesis> hypotheses) {
     }
   }
   if (!why_not.empty()) pending_message_ = "hypotheses refused: " + why_not;
+  // "Still none" changes nothing: a replan at every registration frame made a flight with a
+  // sketch that never registered differ from the prior-free one.
+  if (hypotheses_.empty() && usable.empty()) return;
   hypotheses_ = std::move(usable);
   hypotheses_changed_ = true;
 }

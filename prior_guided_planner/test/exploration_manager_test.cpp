@@ -312,6 +312,10 @@ TEST(ExplorationManager, HypothesesGuideAndBadOnesAreRefused) {
   EXPECT_EQ(t2.mode_used, BaselineMode::kPriorFree);
   EXPECT_EQ(m.activeAttachment(), nullptr);
   EXPECT_TRUE(m.activeGuidepointSequence().empty());
+  // Still none (a registration frame without a hypothesis) is no change: no replan inside the
+  // period, so a flight with a sketch that never registers flies as the prior-free one.
+  m.setHypotheses({});
+  EXPECT_FALSE(m.update(0.3, at(start)).replanned);
 }
 
 TEST(ExplorationManager, GreedyPriorModeFollowsThePredictedCorridor) {
