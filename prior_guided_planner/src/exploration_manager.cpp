@@ -2,6 +2,7 @@
 #include "prior_guided_planner/exploration_manager.h"
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <utility>
@@ -27,6 +28,7 @@ void ExplorationManagerConfig::validate() const {
   requireInRange("unreachable_retry_s", unreachable_retry_s, 0.0, 1e6);
   requireInRange("max_goal_distance_m", max_goal_distance_m, 1.0, 1e4);
   requireInRange("max_goal_climb_m", max_goal_climb_m, 0.5, 1e4);
+  requireInRange("tour_lookahead_m", tour_lookahead_m, 0.0, 1e4);
   if (bounds_world_m) {
     requireThat(bounds_world_m->min().allFinite() && bounds_world_m->max().allFinite(),
                 "bounds_world_m", "corners must be finite");
@@ -187,13 +189,13 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   // No surface viewpoint left: the ways on that the surface frontiers cannot see (openings.h).
   opening_look_at_.clear();
   if (vps.empty() && config_.use_openings) {
-    for (const Opening& o :
-         findOpenings(occupancy_, robot.position_world_m, config_.bounds_world_m, config_.openings)) {
+    for (const Opening& o : findOpenings(occupancy_, robot.position_world_m, config_.bounds_world_m,
+                                         config_.openings)) {
       if (!candidate(o.id, reached_opening_ids_)) continue;
       vps.push_back({o.id, o.viewpoint_world_m, o.yaw_rad});
       vp_cluster.push_back(-1);
-      opening_look_at_[o.id] =
-          o.viewpoint_world_m + 3.0 * Eigen::Vector3d(std::cos(o.yaw_rad), std::sin(o.yaw_rad), 0.0);
+      opening_look_at_[o.id] = o.viewpoint_world_m +
+                               3.0 * Eigen::Vector3d(std::cos(o.yaw_rad), std::sin(o.yaw_rad), 0.0);
     }
   }
   for (const PlanViewpoint& old : viewpoints_)
@@ -266,7 +268,9 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   target_.state = ExplorationState::kExploring;
   target_.has_goal = true;
   target_.viewpoint_world_m = goal.position_world_m;
-  target_.goal_world_m = stagedGoal(robot.position_world_m, goal.position_world_m);
+  target_.goal_world_m = withinGoalReach(robot.position_world_m, goal.position_world_m)
+                             ? tourGoal(robot.position_world_m, plan.tour.viewpoints)
+                             : stagedGoal(robot.position_world_m, goal.position_world_m);
   target_.goal_yaw_rad = goal.yaw_rad;
   target_.goal_viewpoint_id = goal.id;
   const auto c = centroid.find(viewpoint_cluster_[first]);
@@ -313,24 +317,55 @@ bool ExplorationManager::withinGoalReach(const Eigen::Vector3d& from,
          std::abs(to.z() - from.z()) <= config_.max_goal_climb_m;
 }
 
+Eigen::Vector3d ExplorationManager::lastPointWithinReach(const Eigen::Vector3d& from,
+                                                         const std::vector<Eigen::Vector3d>& path,
+                                                         double max_length_m) const {
+  constexpr double kStep_m = 0.1;
+  Eigen::Vector3d last = path.front();
+  double walked = 0.0;
+  for (size_t i = 0; i + 1 < path.size(); ++i) {
+    const Eigen::Vector3d a = path[i], b = path[i + 1];
+    const double len = (b - a).norm();
+    const int n = std::max(1, static_cast<int>(std::ceil(len / kStep_m)));
+    for (int k = 1; k <= n; ++k) {
+      const Eigen::Vector3d p = a + (b - a) * (static_cast<double>(k) / n);
+      if (!withinGoalReach(from, p) || walked + len * k / n > max_length_m) return last;
+      last = p;
+    }
+    walked += len;
+  }
+  return last;
+}
+
 Eigen::Vector3d ExplorationManager::stagedGoal(const Eigen::Vector3d& from,
                                                const Eigen::Vector3d& viewpoint) {
   if (withinGoalReach(from, viewpoint)) return viewpoint;
   const PathSearchResult r = path_cache_.search().search(from, viewpoint);
   if (!r.length_m || r.waypoints_world_m.size() < 2) return viewpoint;
-  // The last point of the path, walked in small steps, before it first leaves the reach.
-  constexpr double kStep_m = 0.1;
-  Eigen::Vector3d last = r.waypoints_world_m.front();
-  for (size_t i = 0; i + 1 < r.waypoints_world_m.size(); ++i) {
-    const Eigen::Vector3d a = r.waypoints_world_m[i], b = r.waypoints_world_m[i + 1];
-    const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / kStep_m)));
-    for (int k = 1; k <= n; ++k) {
-      const Eigen::Vector3d p = a + (b - a) * (static_cast<double>(k) / n);
-      if (!withinGoalReach(from, p)) return last;
-      last = p;
-    }
+  return lastPointWithinReach(from, r.waypoints_world_m, std::numeric_limits<double>::infinity());
+}
+
+Eigen::Vector3d ExplorationManager::tourGoal(const Eigen::Vector3d& from,
+                                             const std::vector<int>& tour) {
+  const PlanViewpoint& first = viewpoints_[tour.front()];
+  if (config_.tour_lookahead_m <= 0.0) return first.position_world_m;
+  const PathSearchResult r = path_cache_.search().search(from, first.position_world_m);
+  if (!r.length_m || r.waypoints_world_m.size() < 2) return first.position_world_m;
+  std::vector<Eigen::Vector3d> path = r.waypoints_world_m;
+  double length = *r.length_m;
+  // Further legs only while the look-ahead reaches past the end of the path so far.
+  for (size_t k = 1; k < tour.size() && length < config_.tour_lookahead_m; ++k) {
+    const PlanViewpoint& a = viewpoints_[tour[k - 1]];
+    const PlanViewpoint& b = viewpoints_[tour[k]];
+    if (!withinGoalReach(from, a.position_world_m)) break;
+    const std::vector<Eigen::Vector3d> leg =
+        path_cache_.path(static_cast<uint64_t>(a.id), a.position_world_m,
+                         static_cast<uint64_t>(b.id), b.position_world_m);
+    if (leg.size() < 2) break;
+    path.insert(path.end(), leg.begin() + 1, leg.end());
+    for (size_t i = 1; i < leg.size(); ++i) length += (leg[i] - leg[i - 1]).norm();
   }
-  return viewpoint;
+  return lastPointWithinReach(from, path, config_.tour_lookahead_m);
 }
 
 const HypothesisAttachment* ExplorationManager::activeAttachment() const {

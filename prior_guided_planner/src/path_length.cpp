@@ -748,6 +748,18 @@ std::optional<double> PathLengthCache::length(uint64_t id_a, const Eigen::Vector
   return l;
 }
 
+std::vector<Eigen::Vector3d> PathLengthCache::path(uint64_t id_a, const Eigen::Vector3d& a,
+                                                   uint64_t id_b, const Eigen::Vector3d& b) {
+  if (!length(id_a, a, id_b, b)) return {};
+  const Entry* e = valid(id_a, a, id_b, b);
+  if (!e) return {};
+  std::vector<Eigen::Vector3d> out = e->path_world_m;
+  // An entry keeps its path in the direction it was searched, from either end.
+  if (!out.empty() && (out.front() - a).squaredNorm() > (out.front() - b).squaredNorm())
+    std::reverse(out.begin(), out.end());
+  return out;
+}
+
 // Whether a changed block (its centre, grown by half its diagonal) comes within the vehicle
 // radius plus one lattice step of a leg of the entry's path.
 bool PathLengthCache::pathNear(const Entry& e, const std::vector<VoxelKey>& blocks) const {

@@ -3,11 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include "efs_common/config_check.h"
 #include "observation_map_test_scenes.h"
@@ -46,7 +49,9 @@ RobotPose at(const Eigen::Vector3d& p, double yaw = 0.0) {
 
 TEST(ExplorationManager, WaitsForDataThenProducesAGoalAhead) {
   const Scene room = corridorRoom();
-  ExplorationManager m(ExplorationManagerConfig{}, std::nullopt);
+  ExplorationManagerConfig c;
+  c.tour_lookahead_m = 0.0;  // the goal is the first viewpoint (look-ahead: its own test)
+  ExplorationManager m(c, std::nullopt);
   const Eigen::Vector3d start(2.0, 0.1, 1.6);
   const ExplorationTarget& t0 = m.update(0.0, at(start));
   EXPECT_EQ(t0.state, ExplorationState::kWaitingForData);
@@ -120,7 +125,8 @@ TEST(ExplorationManager, TargetsWithoutProgressAreSetAsideAndComeBack) {
   EXPECT_GE(changes.front().first, 10.0);  // held for the whole timeout ...
   EXPECT_LE(changes.front().first, 11.5);  // ... and not longer
   std::set<int> ids{first};
-  for (const auto& ch : changes) EXPECT_TRUE(ids.insert(ch.second).second) << "again: " << ch.second;
+  for (const auto& ch : changes)
+    EXPECT_TRUE(ids.insert(ch.second).second) << "again: " << ch.second;
   ASSERT_EQ(m.target().state, ExplorationState::kStuck) << m.target().message;
   EXPECT_FALSE(m.target().has_goal);
   EXPECT_NE(m.target().message.find("set aside"), std::string::npos) << m.target().message;
@@ -152,7 +158,9 @@ TEST(ExplorationManager, TargetsWithoutProgressAreSetAsideAndComeBack) {
 TEST(ExplorationManager, AFarViewpointIsHandedOnInStages) {
   const Scene room = corridorRoom();
   const Eigen::Vector3d start(2.0, 0.1, 1.6);
-  ExplorationManager whole(ExplorationManagerConfig{}, std::nullopt);
+  ExplorationManagerConfig whole_config;
+  whole_config.tour_lookahead_m = 0.0;  // stages only
+  ExplorationManager whole(whole_config, std::nullopt);
   scanFrom(whole, room, start);
   const ExplorationTarget t_whole = whole.update(0.0, at(start));
   ASSERT_TRUE(t_whole.has_goal) << t_whole.message;
@@ -160,7 +168,7 @@ TEST(ExplorationManager, AFarViewpointIsHandedOnInStages) {
   ASSERT_GT(vp_distance_m, 2.0);  // the scene has a far target
   EXPECT_TRUE(t_whole.goal_world_m.isApprox(t_whole.viewpoint_world_m));
 
-  ExplorationManagerConfig c;
+  ExplorationManagerConfig c = whole_config;
   c.max_goal_distance_m = 0.5 * vp_distance_m;
   ExplorationManager staged(c, std::nullopt);
   scanFrom(staged, room, start);
@@ -181,6 +189,52 @@ TEST(ExplorationManager, AFarViewpointIsHandedOnInStages) {
   ASSERT_TRUE(t2.has_goal);
   EXPECT_LT((t2.goal_world_m - t2.viewpoint_world_m).norm(),
             (stage1 - t2.viewpoint_world_m).norm() - 0.5);
+}
+
+/// Length of the polyline p0 ... pn up to the point of it nearest to q, and that distance.
+std::pair<double, double> alongPolyline(const std::vector<Eigen::Vector3d>& p,
+                                        const Eigen::Vector3d& q) {
+  double walked = 0.0, best_d = std::numeric_limits<double>::infinity(), best_s = 0.0;
+  for (size_t i = 0; i + 1 < p.size(); ++i) {
+    const Eigen::Vector3d d = p[i + 1] - p[i];
+    const double len = d.norm();
+    const double t = len > 0 ? std::clamp((q - p[i]).dot(d) / (len * len), 0.0, 1.0) : 0.0;
+    const double dist = (p[i] + t * d - q).norm();
+    if (dist < best_d) best_d = dist, best_s = walked + t * len;
+    walked += len;
+  }
+  return {best_s, best_d};
+}
+
+// The goal lies tour_lookahead_m ahead along the tour (through the first viewpoint, on to the
+// next), not at the first viewpoint: the vehicle does not brake for each viewpoint.
+TEST(ExplorationManager, TheGoalLiesAheadAlongTheTour) {
+  const Scene room = corridorRoom();
+  const Eigen::Vector3d start(2.0, 0.1, 1.6);
+  ExplorationManagerConfig at_viewpoint;
+  at_viewpoint.tour_lookahead_m = 0.0;
+  ExplorationManager stop(at_viewpoint, std::nullopt),
+      pass(ExplorationManagerConfig{}, std::nullopt);
+  scanFrom(stop, room, start);
+  scanFrom(pass, room, start);
+  const ExplorationTarget a = stop.update(0.0, at(start));
+  const ExplorationTarget b = pass.update(0.0, at(start));
+  ASSERT_TRUE(a.has_goal && b.has_goal);
+  ASSERT_GE(b.tour_world_m.size(), 2u) << "the scene needs a tour of two viewpoints";
+  EXPECT_TRUE(a.goal_world_m.isApprox(a.viewpoint_world_m));
+  EXPECT_TRUE(b.viewpoint_world_m.isApprox(a.viewpoint_world_m));  // the same plan
+  // On the tour's path, farther along it than the first viewpoint, within the look-ahead.
+  std::vector<Eigen::Vector3d> tour{start};
+  tour.insert(tour.end(), b.tour_world_m.begin(), b.tour_world_m.end());
+  const auto [s_goal, off_goal] = alongPolyline(tour, b.goal_world_m);
+  const auto [s_first, off_first] = alongPolyline(tour, b.viewpoint_world_m);
+  EXPECT_LT(off_goal, 1.0);  // searched legs may bend around what the straight tour crosses
+  EXPECT_GT(s_goal, s_first + 0.5);
+  EXPECT_LE((b.goal_world_m - start).head<2>().norm(),
+            ExplorationManagerConfig{}.tour_lookahead_m + 1e-6);
+  EXPECT_TRUE(pass.occupancy().isSafe(b.goal_world_m, 0.3, false));
+  EXPECT_TRUE(b.look_at_world_m.isApprox(b.goal_world_m));  // facing the way it flies
+  (void)off_first;
 }
 
 // Flying from goal to goal (a scan at each) explores the closed room; the manager then reports

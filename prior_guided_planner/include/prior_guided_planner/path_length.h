@@ -194,6 +194,10 @@ class PathLengthCache {
   /// with `a`, one Dijkstra from `a` fills all of them (PathSearch::searchFrom).
   std::optional<double> length(uint64_t id_a, const Eigen::Vector3d& a_world_m, uint64_t id_b,
                                const Eigen::Vector3d& b_world_m);
+  /// The searched path of L(a, b), from a to b (searched as length() does on a miss); empty
+  /// when b is unreachable from a.
+  std::vector<Eigen::Vector3d> path(uint64_t id_a, const Eigen::Vector3d& a_world_m, uint64_t id_b,
+                                    const Eigen::Vector3d& b_world_m);
   /// Invalidates what the occupancy's latest scan(s) may have changed.
   void sync();
   /// Forgets every entry that involves node `id` (a viewpoint that was dropped).

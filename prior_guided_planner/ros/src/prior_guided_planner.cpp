@@ -58,6 +58,7 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("unreachable_retry_s", e.unreachable_retry_s);
   p.get("max_goal_distance_m", e.max_goal_distance_m);
   p.get("max_goal_climb_m", e.max_goal_climb_m);
+  p.get("tour_lookahead_m", e.tour_lookahead_m);
   std::vector<double> lo, hi;
   p.get("bounds_min_m", lo);
   p.get("bounds_max_m", hi);
