@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "efs_common/config_check.h"
+#include "prior_guided_planner/goal_along_path.h"
 #include "prior_guided_planner/observation_map_inputs.h"
 
 namespace efs::planner {
@@ -143,9 +144,10 @@ bool ExplorationManager::replanDue(double time_s, const RobotPose& robot) const 
   if (!target_.has_goal || !target_.goal_viewpoint_id) return true;
   if ((robot.position_world_m - target_.viewpoint_world_m).norm() <= config_.target_reached_m)
     return true;
-  // Half-way to a stage: the next one is due before the local planner slows down for it.
+  // Half-way to a goal that is not the viewpoint itself (a stage on the way, or a point past it
+  // along the tour): the next one is due before the local planner slows down for it.
   if (target_.goal_world_m != target_.viewpoint_world_m &&
-      (robot.position_world_m - target_.goal_world_m).norm() <= 0.5 * config_.max_goal_distance_m)
+      (robot.position_world_m - target_.goal_world_m).norm() <= 0.5 * goal_distance_at_plan_m_)
     return true;
   // An opening stays the target until the next periodic plan looks again.
   if (opening_look_at_.count(*target_.goal_viewpoint_id)) return false;
@@ -271,6 +273,7 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   target_.goal_world_m = withinGoalReach(robot.position_world_m, goal.position_world_m)
                              ? tourGoal(robot.position_world_m, plan.tour.viewpoints)
                              : stagedGoal(robot.position_world_m, goal.position_world_m);
+  goal_distance_at_plan_m_ = (target_.goal_world_m - robot.position_world_m).norm();
   target_.goal_yaw_rad = goal.yaw_rad;
   target_.goal_viewpoint_id = goal.id;
   const auto c = centroid.find(viewpoint_cluster_[first]);
@@ -317,32 +320,14 @@ bool ExplorationManager::withinGoalReach(const Eigen::Vector3d& from,
          std::abs(to.z() - from.z()) <= config_.max_goal_climb_m;
 }
 
-Eigen::Vector3d ExplorationManager::lastPointWithinReach(const Eigen::Vector3d& from,
-                                                         const std::vector<Eigen::Vector3d>& path,
-                                                         double max_length_m) const {
-  constexpr double kStep_m = 0.1;
-  Eigen::Vector3d last = path.front();
-  double walked = 0.0;
-  for (size_t i = 0; i + 1 < path.size(); ++i) {
-    const Eigen::Vector3d a = path[i], b = path[i + 1];
-    const double len = (b - a).norm();
-    const int n = std::max(1, static_cast<int>(std::ceil(len / kStep_m)));
-    for (int k = 1; k <= n; ++k) {
-      const Eigen::Vector3d p = a + (b - a) * (static_cast<double>(k) / n);
-      if (!withinGoalReach(from, p) || walked + len * k / n > max_length_m) return last;
-      last = p;
-    }
-    walked += len;
-  }
-  return last;
-}
-
 Eigen::Vector3d ExplorationManager::stagedGoal(const Eigen::Vector3d& from,
                                                const Eigen::Vector3d& viewpoint) {
   if (withinGoalReach(from, viewpoint)) return viewpoint;
   const PathSearchResult r = path_cache_.search().search(from, viewpoint);
   if (!r.length_m || r.waypoints_world_m.size() < 2) return viewpoint;
-  return lastPointWithinReach(from, r.waypoints_world_m, std::numeric_limits<double>::infinity());
+  const double inf = std::numeric_limits<double>::infinity();
+  return goalAlongPath(r.waypoints_world_m, inf, inf,
+                       [&](const Eigen::Vector3d& p) { return withinGoalReach(from, p); });
 }
 
 Eigen::Vector3d ExplorationManager::tourGoal(const Eigen::Vector3d& from,
@@ -353,6 +338,7 @@ Eigen::Vector3d ExplorationManager::tourGoal(const Eigen::Vector3d& from,
   if (!r.length_m || r.waypoints_world_m.size() < 2) return first.position_world_m;
   std::vector<Eigen::Vector3d> path = r.waypoints_world_m;
   double length = *r.length_m;
+  const double to_first_m = length;
   // Further legs only while the look-ahead reaches past the end of the path so far.
   for (size_t k = 1; k < tour.size() && length < config_.tour_lookahead_m; ++k) {
     const PlanViewpoint& a = viewpoints_[tour[k - 1]];
@@ -365,7 +351,11 @@ Eigen::Vector3d ExplorationManager::tourGoal(const Eigen::Vector3d& from,
     path.insert(path.end(), leg.begin() + 1, leg.end());
     for (size_t i = 1; i < leg.size(); ++i) length += (leg[i] - leg[i - 1]).norm();
   }
-  return lastPointWithinReach(from, path, config_.tour_lookahead_m);
+  // Past the first viewpoint only while the path leads on away from the robot: a tour that
+  // turns back (to a viewpoint behind) put the goal beside the robot, which then hovered there
+  // and never reached the first viewpoint (seen in the garage).
+  return goalAlongPath(path, config_.tour_lookahead_m, to_first_m,
+                       [&](const Eigen::Vector3d& p) { return withinGoalReach(from, p); });
 }
 
 const HypothesisAttachment* ExplorationManager::activeAttachment() const {

@@ -161,11 +161,6 @@ class ExplorationManager {
   /// The goal tour_lookahead_m along the searched path robot -> tour viewpoints (indices into
   /// viewpoints_), as far as it stays within reach; the first viewpoint when no path is known.
   Eigen::Vector3d tourGoal(const Eigen::Vector3d& from, const std::vector<int>& tour);
-  /// The last point of `path` (walked in small steps) before it leaves the reach of `from` or
-  /// passes `max_length_m` along it.
-  Eigen::Vector3d lastPointWithinReach(const Eigen::Vector3d& from,
-                                       const std::vector<Eigen::Vector3d>& path,
-                                       double max_length_m) const;
   bool withinGoalReach(const Eigen::Vector3d& from, const Eigen::Vector3d& to) const;
 
   ExplorationManagerConfig config_;
@@ -199,6 +194,7 @@ class ExplorationManager {
   /// Sets the target aside when the robot made no progress toward it; true if it did.
   bool checkProgress(double time_s);
   std::optional<PlanningResult> last_plan_;
+  double goal_distance_at_plan_m_ = 0.0;  ///< robot to goal when the goal was set
   std::optional<double> last_time_s_;
   std::optional<double> last_plan_time_s_;
   ExplorationTarget target_;
