@@ -19,17 +19,20 @@ void AtspConfig::validate() const {
   requireInRange("atsp.min_kicks", min_kicks, 0, 100000000);
   requireInRange("atsp.max_kicks", max_kicks, min_kicks, 100000000);
   requireInRange("atsp.kick_segment_max", kick_segment_max, 1, 1000000);
+  requireInRange("atsp.chains", chains, 1, 1024);
 }
 
 namespace {
 
+bool badEntry(const CostMatrix& c, int i, int j) {
+  if (i == j || !(std::isnan(c(i, j)) || c(i, j) == -kUnreachable)) return false;
+  throw std::invalid_argument("AtspSolver: cost(" + std::to_string(i) + ", " + std::to_string(j) +
+                              ") is NaN or -inf");
+}
+
 void checkMatrix(const CostMatrix& c) {
-  const int n = c.size();
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      if (i != j && (std::isnan(c(i, j)) || c(i, j) == -kUnreachable))
-        throw std::invalid_argument("AtspSolver: cost(" + std::to_string(i) + ", " +
-                                    std::to_string(j) + ") is NaN or -inf");
+  for (int i = 0; i < c.size(); ++i)
+    for (int j = 0; j < c.size(); ++j) badEntry(c, i, j);
 }
 
 // Finite working copy: unreachable edges cost `big`, larger than any tour of finite edges, so
@@ -42,12 +45,14 @@ struct Work {
   double& at(int i, int j) { return w[static_cast<size_t>(i) * n + j]; }
 };
 
+// Also checks the matrix (in the pass that finds its largest entry).
 Work makeWork(const CostMatrix& c, int extra_nodes) {
   const int n = c.size();
   double max_abs = 0.0;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
-      if (i != j && c.reachable(i, j)) max_abs = std::max(max_abs, std::abs(c(i, j)));
+      if (!badEntry(c, i, j) && i != j && c.reachable(i, j))
+        max_abs = std::max(max_abs, std::abs(c(i, j)));
   Work wk;
   wk.n = n + extra_nodes;
   wk.big = (wk.n + 1.0) * (2.0 * max_abs + 1.0);
@@ -70,42 +75,48 @@ std::vector<int> heldKarp(const Work& wk) {
   }
   const int m = n - 1;  // nodes 1..n-1 -> bits 0..m-1
   const size_t full = size_t(1) << m;
-  const double inf = std::numeric_limits<double>::infinity();
-  std::vector<double> dp(full * m, inf);
-  std::vector<int8_t> par(full * m, -1);
+  // Each state pulls from its predecessors over the set bits only: the same candidates in the
+  // same order as relaxing forwards, without testing every bit of every mask. The argmin is
+  // recomputed on the way back (the same sums, so the same first minimum) instead of stored.
+  std::vector<double> into(static_cast<size_t>(m) * m);  // into[k * m + j] = w(j + 1, k + 1)
+  for (int j = 0; j < m; ++j)
+    for (int k = 0; k < m; ++k) into[static_cast<size_t>(k) * m + j] = wk.at(j + 1, k + 1);
+  std::vector<double> dp(full * m);  // dp[mask * m + k], set for k in mask only
   for (int j = 0; j < m; ++j) dp[(size_t(1) << j) * m + j] = wk.at(0, j + 1);
-  for (size_t mask = 1; mask < full; ++mask) {
-    for (int j = 0; j < m; ++j) {
-      if (!(mask & (size_t(1) << j))) continue;
-      const double cur = dp[mask * m + j];
-      if (cur == inf) continue;
-      const double* row = &wk.w[static_cast<size_t>(j + 1) * n + 1];
-      for (int k = 0; k < m; ++k) {
-        if (mask & (size_t(1) << k)) continue;
-        const size_t nm = mask | (size_t(1) << k);
-        const double v = cur + row[k];
-        if (v < dp[nm * m + k]) {
-          dp[nm * m + k] = v;
-          par[nm * m + k] = static_cast<int8_t>(j);
-        }
-      }
+  auto pull = [&](size_t mask, int k, int* arg) {
+    const size_t prev = mask ^ (size_t(1) << k);
+    const double* from = &dp[prev * m];
+    const double* edge = &into[static_cast<size_t>(k) * m];
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t js = prev; js; js &= js - 1) {
+      const int j = __builtin_ctzll(js);
+      const double v = from[j] + edge[j];
+      if (v < best) best = v, *arg = j;
+    }
+    return best;
+  };
+  int unused = 0;
+  for (size_t mask = 3; mask < full; ++mask) {
+    if (!(mask & (mask - 1))) continue;  // single nodes are set above
+    for (size_t ks = mask; ks; ks &= ks - 1) {
+      const int k = __builtin_ctzll(ks);
+      dp[mask * m + k] = pull(mask, k, &unused);
     }
   }
   const size_t all = full - 1;
   int last = 0;
-  double best = inf;
+  double best = std::numeric_limits<double>::infinity();
   for (int j = 0; j < m; ++j) {
     const double v = dp[all * m + j] + wk.at(j + 1, 0);
     if (v < best) best = v, last = j;
   }
-  std::vector<int> rev;
-  size_t mask = all;
-  int j = last;
-  while (j >= 0) {
-    rev.push_back(j + 1);
-    const int p = par[mask * m + j];
-    mask &= ~(size_t(1) << j);
-    j = p;
+  std::vector<int> rev{last + 1};
+  for (size_t mask = all; mask & (mask - 1);) {
+    int p = 0;
+    pull(mask, last, &p);
+    mask ^= size_t(1) << last;
+    last = p;
+    rev.push_back(last + 1);
   }
   std::vector<int> t{0};
   t.insert(t.end(), rev.rbegin(), rev.rend());
@@ -204,43 +215,49 @@ std::vector<int> patchCycles(const Work& wk, std::vector<int> succ) {
 
 // Iterated local search with reversal-free moves. All moves are one primitive: swapping two
 // adjacent tour segments, a -> [a1..b] [bp..c] -> c1 becomes a -> [bp..c] [a1..b] -> c1.
+// The tour lives in a circular buffer: a move rewrites only the two shortest of the three
+// segments it touches (the cyclic order A B R -> B A R is also A R B and R B A), and `base_`
+// keeps the node the move starts from at logical position 0, so the logical order, and with it
+// the random kicks, does not depend on which segments were rewritten.
 class LocalSearch {
  public:
+  static constexpr int kMaxNeighbours = 64;  // AtspConfig::validate() bounds `neighbours`
+
   // Candidate lists rank edges by reduced cost c(i,j) - u_i - v_j of the assignment relaxation
   // when potentials are given (much better candidates on random asymmetric matrices), else by
   // raw cost.
   LocalSearch(const Work& wk, int k, const Assignment* ap) : n_(wk.n), w_(wk.w.data()) {
-    auto r = [&](int i, int j) { return ap ? d(i, j) - ap->u[i] - ap->v[j] : d(i, j); };
     k_ = std::min(k, n_ - 1);
-    nout_.resize(static_cast<size_t>(n_) * k_);
-    nin_.resize(static_cast<size_t>(n_) * k_);
-    std::vector<int> idx(n_ - 1);
-    for (int i = 0; i < n_; ++i) {
-      int q = 0;
-      for (int j = 0; j < n_; ++j)
-        if (j != i) idx[q++] = j;
-      std::partial_sort(idx.begin(), idx.begin() + k_, idx.end(), [&](int a, int b) {
-        return r(i, a) < r(i, b) || (r(i, a) == r(i, b) && a < b);
-      });
-      std::copy(idx.begin(), idx.begin() + k_, nout_.begin() + static_cast<size_t>(i) * k_);
-      std::partial_sort(idx.begin(), idx.begin() + k_, idx.end(), [&](int a, int b) {
-        return r(a, i) < r(b, i) || (r(a, i) == r(b, i) && a < b);
-      });
-      std::copy(idx.begin(), idx.begin() + k_, nin_.begin() + static_cast<size_t>(i) * k_);
-    }
+    buildCandidates(ap);
     inq_.assign(n_, 0);
     pos_.resize(n_);
     tmp_.resize(n_);
+    // A failed improveAt(a) is a function of the tour and its cost only: it is not repeated
+    // while the tour is unchanged (`checked_[a] == version_`).
+    checked_.assign(n_, -1);
   }
 
   void setTour(const std::vector<int>& t) {
-    tour_ = t;
-    for (int i = 0; i < n_; ++i) pos_[tour_[i]] = i;
-    cost_ = 0.0;
-    for (int i = 0; i < n_; ++i) cost_ += d(tour_[i], tour_[(i + 1) % n_]);
+    buf_ = t;
+    base_ = 0;
+    settle();
   }
-  const std::vector<int>& tour() const { return tour_; }
+  /// The tour in logical order (logical position 0 first).
+  std::vector<int> tour() const {
+    std::vector<int> t(n_);
+    for (int i = 0; i < n_; ++i) t[i] = at(base_ + i);
+    return t;
+  }
   double cost() const { return cost_; }
+  void save() {
+    saved_ = buf_;
+    saved_base_ = base_;
+  }
+  void restore() {
+    buf_.swap(saved_);
+    base_ = saved_base_;
+    settle();
+  }
 
   std::vector<int> nearestNeighbourTour() const {
     std::vector<int> t{0};
@@ -258,7 +275,7 @@ class LocalSearch {
   }
 
   void pushAll() {
-    for (int i = 0; i < n_; ++i) push(tour_[i]);
+    for (int i = 0; i < n_; ++i) push(at(base_ + i));
   }
 
   void optimise() {
@@ -272,25 +289,26 @@ class LocalSearch {
 
   // Random segment swap ("double bridge" on an asymmetric tour: orientation preserving).
   void kick(std::mt19937_64& rng, int seg_max) {
-    const int a = tour_[rng() % n_];
+    const int a = at(base_ + static_cast<int>(rng() % n_));
     const int lim = std::max(1, std::min(seg_max, (n_ - 1) / 2));
     const int l1 = 1 + static_cast<int>(rng() % lim);
     const int l2 = 1 + static_cast<int>(rng() % lim);
-    const int bp = tour_[(pos_[a] + 1 + l1) % n_];
-    const int c = tour_[(pos_[a] + l1 + l2) % n_];
+    const int bp = at(pos_[a] + 1 + l1);
+    const int c = at(pos_[a] + l1 + l2);
     applySwap(a, bp, c);
   }
 
  private:
   double d(int a, int b) const { return w_[static_cast<size_t>(a) * n_ + b]; }
-  int succ(int x) const {
-    const int p = pos_[x] + 1;
-    return tour_[p == n_ ? 0 : p];
-  }
-  int pred(int x) const {
+  // Node at buffer index p, for 0 <= p < 2n.
+  int at(int p) const { return buf_[p >= n_ ? p - n_ : p]; }
+  int succ(int x) const { return at(pos_[x] + 1); }
+  // Buffer index of the predecessor of x (its position found with the node itself).
+  int before(int x) const {
     const int p = pos_[x] - 1;
-    return tour_[p < 0 ? n_ - 1 : p];
+    return p < 0 ? n_ - 1 : p;
   }
+  int pred(int x) const { return buf_[before(x)]; }
   int off(int a, int x) const {
     const int o = pos_[x] - pos_[a];
     return o < 0 ? o + n_ : o;
@@ -299,61 +317,133 @@ class LocalSearch {
     if (!inq_[x]) inq_[x] = 1, queue_.push_back(x);
   }
 
+  // Positions and cost of a new buffer; the cost is summed in logical order, as a fresh tour's.
+  void settle() {
+    for (int i = 0; i < n_; ++i) pos_[buf_[i]] = i;
+    cost_ = 0.0;
+    for (int i = 0; i < n_; ++i) cost_ += d(at(base_ + i), at(base_ + (i + 1) % n_));
+    ++version_;
+  }
+
+  // The k best of each row (outgoing) and column (incoming) by (rank value, index): one pass
+  // over the matrix in memory order with an insertion into short sorted lists, instead of a
+  // sort per row and a strided one per column.
+  void buildCandidates(const Assignment* ap) {
+    nout_.resize(static_cast<size_t>(n_) * k_);
+    nin_.resize(static_cast<size_t>(n_) * k_);
+    std::vector<double> out_v(k_), in_v(static_cast<size_t>(n_) * k_);
+    std::vector<int> in_len(n_, 0);
+    // Rows are scanned in increasing index, so an equal value never displaces an earlier entry.
+    auto insert = [this](double* v, int* id, int& len, double x, int j) {
+      if (len == k_ && !(x < v[k_ - 1])) return;
+      int p = len < k_ ? len++ : k_ - 1;
+      for (; p > 0 && v[p - 1] > x; --p) v[p] = v[p - 1], id[p] = id[p - 1];
+      v[p] = x, id[p] = j;
+    };
+    for (int i = 0; i < n_; ++i) {
+      int out_len = 0;
+      int* out = &nout_[static_cast<size_t>(i) * k_];
+      for (int j = 0; j < n_; ++j) {
+        if (j == i) continue;
+        const double r = ap ? d(i, j) - ap->u[i] - ap->v[j] : d(i, j);
+        insert(out_v.data(), out, out_len, r, j);
+        const size_t jk = static_cast<size_t>(j) * k_;
+        insert(&in_v[jk], &nin_[jk], in_len[j], r, i);
+      }
+    }
+    nout_d_.resize(nout_.size());
+    nin_d_.resize(nin_.size());
+    for (int i = 0; i < n_; ++i)
+      for (int t = 0; t < k_; ++t) {
+        const size_t it = static_cast<size_t>(i) * k_ + t;
+        nout_d_[it] = d(i, nout_[it]);
+        nin_d_[it] = d(nin_[it], i);
+      }
+  }
+
   double swapGain(int a, int bp, int c) const {
     const int a1 = succ(a), b = pred(bp), c1 = succ(c);
     return d(a, a1) + d(b, bp) + d(c, c1) - d(a, bp) - d(c, a1) - d(b, c1);
+  }
+  // Buffer range [s, s + l1 + l2) (cyclic) holding blocks X (l1) and Y (l2) becomes Y X.
+  void swapBlocks(int s, int l1, int l2) {
+    const int len = l1 + l2;
+    for (int q = 0; q < len; ++q) tmp_[q] = at(s + q);
+    for (int q = 0; q < len; ++q) {
+      int p = s + q;
+      if (p >= n_) p -= n_;
+      const int x = tmp_[q < l2 ? q + l1 : q - l2];
+      buf_[p] = x;
+      pos_[x] = p;
+    }
   }
   void applySwap(int a, int bp, int c) {
     const int a1 = succ(a), b = pred(bp), c1 = succ(c);
     cost_ -= swapGain(a, bp, c);
     const int pa = pos_[a], ob = off(a, bp), oc = off(a, c);
-    auto at = [&](int o) {
-      const int p = pa + o;
-      return tour_[p >= n_ ? p - n_ : p];
-    };
-    int q = 0;
-    tmp_[q++] = a;
-    for (int o = ob; o <= oc; ++o) tmp_[q++] = at(o);
-    for (int o = 1; o < ob; ++o) tmp_[q++] = at(o);
-    for (int o = oc + 1; o < n_; ++o) tmp_[q++] = at(o);
-    tour_.swap(tmp_);
-    for (int i = 0; i < n_; ++i) pos_[tour_[i]] = i;
+    // Segments after a: A = offsets 1..ob-1, B = ob..oc, R = oc+1..n (R ends with a itself).
+    const int la = ob - 1, lb = oc - ob + 1, lr = n_ - oc;
+    auto wrap = [this](int p) { return p >= n_ ? p - n_ : p; };
+    if (la + lb <= lb + lr && la + lb <= lr + la)
+      swapBlocks(wrap(pa + 1), la, lb);
+    else if (lb + lr <= lr + la)
+      swapBlocks(wrap(pa + ob), lb, lr);
+    else
+      swapBlocks(wrap(pa + oc + 1), lr, la);
+    base_ = pos_[a];
+    ++version_;
     for (int x : {a, a1, b, bp, c, c1}) push(x);
   }
 
-  // First improving segment swap in which `a` is the tail of a removed edge. Gains are built
-  // up edge by edge so that most candidates are rejected after two lookups.
   bool improveAt(int a) {
+    if (checked_[a] == version_) return false;
+    if (searchAt(a)) return true;
+    checked_[a] = version_;
+    return false;
+  }
+
+  // First improving segment swap in which `a` is the tail of a removed edge. Gains are built
+  // up edge by edge so that most candidates are rejected after two lookups. The incoming
+  // candidates of a1 serve both move types, so their positions, successors and edge costs are
+  // read once.
+  bool searchAt(int a) {
     const int a1 = succ(a), pa = pos_[a];
     const double daa1 = d(a, a1);
     const double eps = 1e-9 * (1.0 + std::abs(cost_) / n_);
-    const int* out = &nout_[static_cast<size_t>(a) * k_];
-    const int* in_a1 = &nin_[static_cast<size_t>(a1) * k_];
-    auto offset = [&](int x) {
-      const int o = pos_[x] - pa;
+    const size_t ak = static_cast<size_t>(a) * k_, a1k = static_cast<size_t>(a1) * k_;
+    auto offsetAt = [&](int p) {
+      const int o = p - pa;
       return o < 0 ? o + n_ : o;
     };
+    auto offset = [&](int x) { return offsetAt(pos_[x]); };
+    // Incoming candidate p of a1 (the new edge p -> a1), its offset from a, its successor q.
+    int in_off[kMaxNeighbours], in_q[kMaxNeighbours];
+    double in_dpq[kMaxNeighbours];
+    const double* in_dpa1 = &nin_d_[a1k];
+    for (int u = 0; u < k_; ++u) {
+      const int p = nin_[a1k + u];
+      in_off[u] = offset(p);
+      in_q[u] = succ(p);
+      in_dpq[u] = d(p, in_q[u]);
+    }
     // 3-opt segment swap: the new edge a->bp is cheaper than a->a1 (positive first gain).
     for (int t = 0; t < k_; ++t) {
-      const int bp = out[t];
-      const double g1 = daa1 - d(a, bp);
+      const int bp = nout_[ak + t];
+      const double g1 = daa1 - nout_d_[ak + t];
       if (g1 <= 0.0 || bp == a1) continue;
       const int b = pred(bp), ob = offset(bp);
       const double g2 = g1 + d(b, bp);
       for (int u = 0; u < k_; ++u) {
-        const int c = in_a1[u];
-        const int oc = offset(c);
-        if (oc < ob) continue;
-        const int c1 = succ(c);
-        if (g2 + d(c, c1) - d(c, a1) - d(b, c1) > eps) return apply(a, bp, c), true;
+        if (in_off[u] < ob) continue;
+        if (g2 + in_dpq[u] - in_dpa1[u] - d(b, in_q[u]) > eps)
+          return applySwap(a, bp, nin_[a1k + u]), true;
       }
-      const int* outb = &nout_[static_cast<size_t>(b) * k_];
+      const size_t bk = static_cast<size_t>(b) * k_;
       for (int u = 0; u < k_; ++u) {
-        const int c1 = outb[u];
-        const int c = pred(c1);
-        const int oc = offset(c);
-        if (oc < ob) continue;
-        if (g2 + d(c, c1) - d(c, a1) - d(b, c1) > eps) return apply(a, bp, c), true;
+        const int c1 = nout_[bk + u];
+        const int pc = before(c1), c = buf_[pc];
+        if (offsetAt(pc) < ob) continue;
+        if (g2 + d(c, c1) - d(c, a1) - nout_d_[bk + u] > eps) return applySwap(a, bp, c), true;
       }
     }
     // Or-opt: move the 1..3 nodes after `a` elsewhere (forwards == backwards on a cycle), with
@@ -365,33 +455,60 @@ class LocalSearch {
       if (after == a) break;
       const double g1 = daa1 + d(e, after) - d(a, after);
       for (int u = 0; u < k_; ++u) {
-        const int p = in_a1[u];
-        if (offset(p) <= len) continue;
-        const int q = succ(p);
-        if (g1 + d(p, q) - d(p, a1) - d(e, q) > eps) return apply(a, after, p), true;
+        if (in_off[u] <= len) continue;
+        if (g1 + in_dpq[u] - in_dpa1[u] - d(e, in_q[u]) > eps)
+          return applySwap(a, after, nin_[a1k + u]), true;
       }
-      const int* oute = &nout_[static_cast<size_t>(e) * k_];
+      const size_t ek = static_cast<size_t>(e) * k_;
       for (int u = 0; u < k_; ++u) {
-        const int q = oute[u];
-        const int p = pred(q);
-        if (offset(p) <= len) continue;
-        if (g1 + d(p, q) - d(p, a1) - d(e, q) > eps) return apply(a, after, p), true;
+        const int q = nout_[ek + u];
+        const int pp = before(q), p = buf_[pp];
+        if (offsetAt(pp) <= len) continue;
+        if (g1 + d(p, q) - d(p, a1) - nout_d_[ek + u] > eps) return applySwap(a, after, p), true;
       }
     }
     return false;
   }
 
-  void apply(int a, int bp, int c) { applySwap(a, bp, c); }
-
   int n_, k_;
   const double* w_;
-  std::vector<int> nout_, nin_, tour_, pos_, tmp_, queue_;
+  std::vector<int> nout_, nin_, buf_, saved_, pos_, tmp_, queue_;
+  std::vector<double> nout_d_, nin_d_;  // d() of each candidate edge, beside nout_ / nin_
   std::vector<char> inq_;
+  std::vector<int64_t> checked_;
+  int64_t version_ = 0;
+  int base_ = 0, saved_base_ = 0;
   double cost_ = 0.0;
 };
 
+// Kicks from the local optimum in `ls`, accepting equal or better tours; the best tour seen.
+struct Chain {
+  std::vector<int> best;
+  double cost = 0.0;
+};
+Chain runKicks(LocalSearch& ls, int kicks, int seg_max, uint64_t seed) {
+  Chain out{ls.tour(), ls.cost()};
+  std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull);
+  double cur = out.cost;
+  for (int k = 0; k < kicks; ++k) {
+    ls.save();
+    ls.kick(rng, seg_max);
+    ls.optimise();
+    const double c = ls.cost();
+    if (c <= cur + 1e-12 * std::abs(cur)) {
+      cur = c;
+      if (c < out.cost - 1e-12 * std::abs(out.cost)) out.cost = c, out.best = ls.tour();
+    } else {
+      ls.restore();
+      cur = ls.cost();
+    }
+  }
+  return out;
+}
+
 std::vector<int> iteratedLocalSearch(const Work& wk, const AtspConfig& cfg, uint64_t seed,
-                                     int* kicks_done, const std::vector<int>* initial) {
+                                     int* kicks_done, const std::vector<int>* initial,
+                                     const ParallelFor* parallel) {
   const int n = wk.n;
   std::unique_ptr<Assignment> ap;
   if (cfg.assignment_start && !initial) ap = std::make_unique<Assignment>(solveAssignment(wk));
@@ -399,27 +516,29 @@ std::vector<int> iteratedLocalSearch(const Work& wk, const AtspConfig& cfg, uint
   ls.setTour(initial ? *initial : ap ? patchCycles(wk, ap->succ) : ls.nearestNeighbourTour());
   ls.pushAll();
   ls.optimise();
-  std::vector<int> best = ls.tour(), saved;
-  double best_cost = ls.cost();
   const int kicks =
       std::clamp(static_cast<int>(cfg.kicks_per_node * n), cfg.min_kicks, cfg.max_kicks);
-  std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull);
-  double cur = best_cost;
-  for (int k = 0; k < kicks; ++k) {
-    saved = ls.tour();
-    ls.kick(rng, cfg.kick_segment_max);
-    ls.optimise();
-    const double c = ls.cost();
-    if (c <= cur + 1e-12 * std::abs(cur)) {
-      cur = c;
-      if (c < best_cost - 1e-12 * std::abs(best_cost)) best_cost = c, best = ls.tour();
-    } else {
-      ls.setTour(saved);
-      cur = ls.cost();
-    }
+  const int chains = std::max(1, std::min(cfg.chains, kicks));
+  const int per_chain = (kicks + chains - 1) / chains;
+  if (kicks_done) *kicks_done = chains == 1 ? kicks : per_chain * chains;
+  if (chains == 1) return runKicks(ls, kicks, cfg.kick_segment_max, seed).best;
+  // The chains share the set-up and the first descent, then diverge by their seeds; chain 0
+  // keeps the seed of an unsplit search.
+  std::vector<Chain> out(chains);
+  const std::function<void(int)> chain = [&](int q) {
+    LocalSearch mine = ls;
+    out[q] = runKicks(mine, per_chain, cfg.kick_segment_max,
+                      q == 0 ? seed : seed ^ (0xD1B54A32D192ED03ull * static_cast<uint64_t>(q)));
+  };
+  if (parallel) {
+    (*parallel)(chains, chain);
+  } else {
+    for (int q = 0; q < chains; ++q) chain(q);
   }
-  if (kicks_done) *kicks_done = kicks;
-  return best;
+  int best = 0;  // ties go to the lower chain, whatever finished first
+  for (int q = 1; q < chains; ++q)
+    if (out[q].cost < out[best].cost) best = q;
+  return std::move(out[best].best);
 }
 
 std::vector<int> rotateTo(const std::vector<int>& t, int first) {
@@ -430,30 +549,33 @@ std::vector<int> rotateTo(const std::vector<int>& t, int first) {
 }
 
 std::vector<int> solveWork(const Work& wk, const AtspConfig& cfg, uint64_t seed, bool exact,
-                           int* kicks, const std::vector<int>* initial = nullptr) {
+                           int* kicks, const std::vector<int>* initial,
+                           const ParallelFor* parallel) {
   if (exact || wk.n <= 3) return heldKarp(wk);
-  return iteratedLocalSearch(wk, cfg, seed, kicks, initial);
+  return iteratedLocalSearch(wk, cfg, seed, kicks, initial, parallel);
 }
 
 }  // namespace
 
 AtspSolver::AtspSolver(AtspConfig config) : config_(config) { config_.validate(); }
 
-AtspResult AtspSolver::solveTour(const CostMatrix& c, uint64_t seed) const {
-  checkMatrix(c);
+AtspResult AtspSolver::solveTour(const CostMatrix& c, uint64_t seed,
+                                 const ParallelFor* parallel) const {
+  const Work wk = makeWork(c, 0);
   AtspResult r;
   if (c.size() == 0) return r;
-  const Work wk = makeWork(c, 0);
   r.exact = c.size() <= config_.exact_max_nodes || c.size() <= 3;
-  r.order = rotateTo(solveWork(wk, config_, seed, r.exact, &r.kicks), 0);
+  r.order = rotateTo(solveWork(wk, config_, seed, r.exact, &r.kicks, nullptr, parallel), 0);
   r.cost = pathCost(c, r.order, true);
   r.feasible = r.cost < kUnreachable;
   return r;
 }
 
 AtspResult AtspSolver::solveOpenPath(const CostMatrix& c, int start, int end, uint64_t seed,
-                                     const std::vector<int>* initial_order) const {
-  checkMatrix(c);
+                                     const std::vector<int>* initial_order,
+                                     const ParallelFor* parallel) const {
+  // The matrix is checked first, by building the working copy.
+  Work wk = makeWork(c, end == kFreeEnd ? 0 : 1);
   const int n = c.size();
   if (start < 0 || start >= n || end < kFreeEnd || end >= n || end == start)
     throw std::invalid_argument("AtspSolver::solveOpenPath: bad start " + std::to_string(start) +
@@ -479,19 +601,18 @@ AtspResult AtspSolver::solveOpenPath(const CostMatrix& c, int start, int end, ui
   const std::vector<int>* init = warm.empty() ? nullptr : &warm;
   if (end == kFreeEnd) {
     // Every edge back to the start is free: the closing edge of the tour costs nothing.
-    Work wk = makeWork(c, 0);
     for (int i = 0; i < n; ++i) wk.at(i, start) = 0.0;
-    r.order = rotateTo(solveWork(wk, config_, seed, r.exact, &r.kicks, init), start);
+    r.order = rotateTo(solveWork(wk, config_, seed, r.exact, &r.kicks, init, parallel), start);
   } else {
     // Dummy node D: end -> D -> start are free, every other edge at D is forbidden with a
     // weight above any tour of ordinary (even unreachable) edges.
-    Work wk = makeWork(c, 1);
     const int dn = n;
     const double forbid = (wk.n + 2.0) * wk.big;
     for (int i = 0; i < n; ++i) wk.at(i, dn) = wk.at(dn, i) = forbid;
     wk.at(end, dn) = 0.0;
     wk.at(dn, start) = 0.0;
-    std::vector<int> t = rotateTo(solveWork(wk, config_, seed, r.exact, &r.kicks, init), start);
+    std::vector<int> t =
+        rotateTo(solveWork(wk, config_, seed, r.exact, &r.kicks, init, parallel), start);
     t.erase(std::remove(t.begin(), t.end(), dn), t.end());
     r.order = t;
   }

@@ -18,7 +18,8 @@ void HierarchicalPlannerConfig::validate() const {
   requireInRange("prior_free_max_viewpoints", prior_free_max_viewpoints, 1, 100000);
 }
 
-HierarchicalPlanner::HierarchicalPlanner(HierarchicalPlannerConfig config) : config_(config) {
+HierarchicalPlanner::HierarchicalPlanner(HierarchicalPlannerConfig config)
+    : config_(config), mcts_(config_.mcts) {
   config_.validate();
 }
 
@@ -108,9 +109,7 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) const {
       hs.confidence = h.confidence;
       hs.problem = buildGuidepointProblem(res.attachments.back(), *in.prior, h.T_world_sketch.scale,
                                           robot_len, config_.sequencing);
-      MctsConfig mc = config_.mcts;
-      mc.seed = config_.mcts.seed + 7919 * k;
-      hs.mcts = MctsSequencer(mc).solve(hs.problem.problem);
+      hs.mcts = mcts_.solve(hs.problem.problem, config_.mcts.seed + 7919 * k);
       res.sequences.push_back(std::move(hs));
     }
     if (!res.used_hypotheses.empty()) {

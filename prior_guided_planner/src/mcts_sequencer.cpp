@@ -2,7 +2,12 @@
 #include "prior_guided_planner/mcts_sequencer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <condition_variable>
+#include <exception>
+#include <functional>
+#include <mutex>
 #include <numeric>
 #include <string>
 #include <thread>
@@ -16,8 +21,97 @@ void MctsConfig::validate() const {
   requireInRange("mcts.iterations", iterations, 0, 1000000);
   requireInRange("mcts.rollouts_per_iteration", rollouts_per_iteration, 1, 1024);
   requireInRange("mcts.threads", threads, 1, 256);
+  requireInRange("mcts.root_chains", root_chains, 1, 64);
   rollout.validate();
 }
+
+// Workers kept between batches instead of threads spawned and joined in every iteration. Jobs
+// are handed out one at a time (an atomic counter) rather than split up front, since rollouts
+// differ in size with the depth of their node. A batch is over when its last job has finished,
+// not when every worker has woken up: on a busy machine a worker may get no CPU for a while, and
+// the others (the caller included) then take its share.
+class RolloutPool {
+ public:
+  explicit RolloutPool(int workers) {
+    for (int i = 0; i < workers; ++i) threads_.emplace_back([this] { workerLoop(); });
+  }
+  ~RolloutPool() {
+    {
+      std::lock_guard<std::mutex> lk(m_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    for (auto& t : threads_) t.join();
+  }
+  RolloutPool(const RolloutPool&) = delete;
+  RolloutPool& operator=(const RolloutPool&) = delete;
+
+  /// fn(0) .. fn(jobs - 1) on the workers and the calling thread; returns when all are done and
+  /// rethrows the first exception of a job.
+  void run(int jobs, const std::function<void(int)>& fn) {
+    std::lock_guard<std::mutex> one_batch(run_m_);
+    const auto b = std::make_shared<Batch>(fn, jobs);
+    {
+      std::lock_guard<std::mutex> lk(m_);
+      batch_ = b;
+      ++generation_;
+    }
+    wake_.notify_all();
+    b->work();
+    std::unique_lock<std::mutex> lk(b->m);
+    b->finished.wait(lk, [&] { return b->done.load() == jobs; });
+    if (b->error) std::rethrow_exception(b->error);
+  }
+
+ private:
+  // Owned jointly by the caller and the workers that saw it: a worker that wakes late finds no
+  // job left in it and never touches the next batch's.
+  struct Batch {
+    Batch(const std::function<void(int)>& f, int n) : fn(f), jobs(n) {}
+    void work() {
+      for (int j = next.fetch_add(1); j < jobs; j = next.fetch_add(1)) {
+        try {
+          fn(j);
+        } catch (...) {
+          std::lock_guard<std::mutex> lk(m);
+          if (!error) error = std::current_exception();
+        }
+        if (done.fetch_add(1) + 1 == jobs) {
+          std::lock_guard<std::mutex> lk(m);  // the caller is waiting or has not checked yet
+          finished.notify_all();
+        }
+      }
+    }
+    const std::function<void(int)>& fn;
+    const int jobs;
+    std::atomic<int> next{0}, done{0};
+    std::mutex m;
+    std::condition_variable finished;
+    std::exception_ptr error;
+  };
+
+  void workerLoop() {
+    uint64_t seen = 0;
+    for (;;) {
+      std::shared_ptr<Batch> b;
+      {
+        std::unique_lock<std::mutex> lk(m_);
+        wake_.wait(lk, [&] { return stop_ || generation_ != seen; });
+        if (stop_) return;
+        seen = generation_;
+        b = batch_;
+      }
+      b->work();
+    }
+  }
+
+  std::vector<std::thread> threads_;
+  std::mutex run_m_, m_;
+  std::condition_variable wake_;
+  std::shared_ptr<Batch> batch_;
+  uint64_t generation_ = 0;
+  bool stop_ = false;
+};
 
 namespace {
 
@@ -57,18 +151,27 @@ struct Rollout {
 };
 
 // The root rollout has no warm start: it starts from the assignment relaxation and gets a
-// larger kick budget (its tour seeds every later rollout through the warm starts).
+// larger kick budget (its tour seeds every later rollout through the warm starts), shared by
+// its chains.
 AtspConfig rootConfig(const MctsConfig& c) {
   AtspConfig a = c.rollout;
   a.assignment_start = true;
   a.kicks_per_node = std::max(c.rollout.kicks_per_node, 15.0);
+  a.chains = c.root_chains;
   return a;
 }
 
 class Search {
  public:
-  Search(const MctsProblem& p, const MctsConfig& c)
-      : p_(p), c_(c), m_(p.cost.size()), solver_(c.rollout), root_solver_(rootConfig(c)) {}
+  Search(const MctsProblem& p, const MctsConfig& c, uint64_t seed, RolloutPool* pool)
+      : p_(p),
+        c_(c),
+        seed_(seed),
+        pool_(pool),
+        m_(p.cost.size()),
+        solver_(c.rollout),
+        root_solver_(rootConfig(c)),
+        parallel_([this](int jobs, const std::function<void(int)>& fn) { runJobs(jobs, fn); }) {}
 
   MctsResult run() {
     MctsResult res;
@@ -155,9 +258,10 @@ class Search {
       r.length = nodes_[node].prefix_len;
       return r;
     }
-    CostMatrix sub(k);
+    CostMatrix sub(k);  // column 0 stays zero: the free return
     for (int i = 0; i < k; ++i)
-      for (int j = 0; j < k; ++j) sub(i, j) = (j == 0 || i == j) ? 0.0 : edge(idx[i], idx[j]);
+      for (int j = 1; j < k; ++j)
+        if (i != j) sub(i, j) = edge(idx[i], idx[j]);
     std::vector<int> warm;
     if (parent_seq) {
       std::vector<int> local(m_, -1);
@@ -167,25 +271,28 @@ class Search {
         if (!used[g]) warm.push_back(local[g]);
       if (static_cast<int>(warm.size()) != k) warm.clear();
     }
-    const AtspSolver& solver = warm.empty() ? root_solver_ : solver_;
-    const AtspResult a = solver.solveOpenPath(sub, 0, AtspSolver::kFreeEnd, mix(c_.seed, node),
-                                              warm.empty() ? nullptr : &warm);
+    const uint64_t seed = mix(seed_, node);
+    // Only the root rollout runs outside the pool's jobs, so only its chains may use the pool.
+    const AtspResult a = warm.empty()
+                             ? root_solver_.solveOpenPath(sub, 0, AtspSolver::kFreeEnd, seed,
+                                                          nullptr, node == 0 ? &parallel_ : nullptr)
+                             : solver_.solveOpenPath(sub, 0, AtspSolver::kFreeEnd, seed, &warm);
     for (size_t q = 1; q < a.order.size(); ++q) r.sequence.push_back(idx[a.order[q]]);
     r.length = nodes_[node].prefix_len + a.cost;
     return r;
   }
 
+  void runJobs(int jobs, const std::function<void(int)>& fn) const {
+    if (pool_ && jobs > 1) {
+      pool_->run(jobs, fn);
+    } else {
+      for (int j = 0; j < jobs; ++j) fn(j);
+    }
+  }
+
   void runParallel(const std::vector<int>& fresh, std::vector<Rollout>& outs) const {
-    const int jobs = static_cast<int>(fresh.size());
-    const int t = std::min(c_.threads, jobs);
-    auto work = [&](int tid) {
-      for (int k = tid; k < jobs; k += t)
-        outs[k] = rollout(fresh[k], &best_seq_[nodes_[fresh[k]].parent]);
-    };
-    std::vector<std::thread> pool;
-    for (int tid = 1; tid < t; ++tid) pool.emplace_back(work, tid);
-    work(0);
-    for (auto& th : pool) th.join();
+    runJobs(static_cast<int>(fresh.size()),
+            [&](int k) { outs[k] = rollout(fresh[k], &best_seq_[nodes_[fresh[k]].parent]); });
   }
 
   // Children in expansion order: the rollout's next guidepoint first, then cheapest edges.
@@ -246,8 +353,11 @@ class Search {
 
   const MctsProblem& p_;
   const MctsConfig& c_;
+  uint64_t seed_;
+  RolloutPool* pool_;
   int m_;
   AtspSolver solver_, root_solver_;
+  ParallelFor parallel_;
   std::vector<Node> nodes_;
   std::vector<std::vector<int>> best_seq_;  // per tree node: its rollout's full sequence
   double norm_ = 1.0;
@@ -255,11 +365,14 @@ class Search {
 
 }  // namespace
 
-MctsSequencer::MctsSequencer(MctsConfig config) : config_(config) { config_.validate(); }
+MctsSequencer::MctsSequencer(MctsConfig config) : config_(config) {
+  config_.validate();
+  if (config_.threads > 1) pool_ = std::make_shared<RolloutPool>(config_.threads - 1);
+}
 
-MctsResult MctsSequencer::solve(const MctsProblem& problem) const {
+MctsResult MctsSequencer::solve(const MctsProblem& problem, uint64_t seed) const {
   checkProblem(problem);
-  return Search(problem, config_).run();
+  return Search(problem, config_, seed, pool_.get()).run();
 }
 
 MctsResult solveSequenceExhaustive(const MctsProblem& p) {

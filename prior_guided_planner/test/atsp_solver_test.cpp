@@ -2,8 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
 #include <numeric>
 #include <random>
+#include <thread>
 
 #include "efs_common/config_check.h"
 #include "prior_guided_planner/atsp_solver.h"
@@ -135,6 +137,63 @@ TEST(AtspSolver, LargeInstanceBeatsNearestNeighbourAndIsDeterministic) {
   EXPECT_LT(a.cost, 0.8 * pathCost(c, nn, true));
 }
 
+TEST(AtspSolver, ToursAreValidAtEverySize) {
+  // Small sizes make the moves wrap around the tour's buffer in every way.
+  AtspConfig cfg;
+  cfg.exact_max_nodes = 0;
+  for (int n = 4; n <= 40; ++n) {
+    const CostMatrix c = randomMatrix(n, 500 + n);
+    const AtspResult r = AtspSolver(cfg).solveTour(c, n);
+    ASSERT_TRUE(isPermutation(r.order, n)) << "n=" << n;
+    EXPECT_NEAR(pathCost(c, r.order, true), r.cost, 1e-9) << "n=" << n;
+    const AtspResult f = AtspSolver(cfg).solveOpenPath(c, n / 2, AtspSolver::kFreeEnd, n);
+    ASSERT_TRUE(isPermutation(f.order, n));
+    EXPECT_NEAR(pathCost(c, f.order, false), f.cost, 1e-9) << "n=" << n;
+  }
+}
+
+TEST(AtspSolver, ChainsGiveTheSameTourHoweverTheyAreRun) {
+  const CostMatrix c = randomMatrix(80, 12);
+  AtspConfig cfg;
+  cfg.chains = 3;
+  const AtspSolver solver(cfg);
+  const AtspResult in_order = solver.solveOpenPath(c, 4, AtspSolver::kFreeEnd, 7);
+  const ParallelFor backwards = [](int jobs, const std::function<void(int)>& fn) {
+    for (int j = jobs - 1; j >= 0; --j) fn(j);
+  };
+  const ParallelFor threads = [](int jobs, const std::function<void(int)>& fn) {
+    std::vector<std::thread> t;
+    for (int j = 0; j < jobs; ++j) t.emplace_back(fn, j);
+    for (auto& x : t) x.join();
+  };
+  for (const ParallelFor* run : {&backwards, &threads}) {
+    const AtspResult r = solver.solveOpenPath(c, 4, AtspSolver::kFreeEnd, 7, nullptr, run);
+    EXPECT_EQ(r.order, in_order.order);
+    EXPECT_EQ(r.cost, in_order.cost);
+  }
+  ASSERT_TRUE(isPermutation(in_order.order, 80));
+  EXPECT_EQ(in_order.order.front(), 4);
+  // The budget is shared, not multiplied.
+  EXPECT_EQ(in_order.kicks, 3 * ((static_cast<int>(cfg.kicks_per_node * 80) + 2) / 3));
+  // One chain is the unsplit search.
+  cfg.chains = 1;
+  const AtspResult one =
+      AtspSolver(cfg).solveOpenPath(c, 4, AtspSolver::kFreeEnd, 7, nullptr, &threads);
+  EXPECT_EQ(one.order, AtspSolver().solveOpenPath(c, 4, AtspSolver::kFreeEnd, 7).order);
+}
+
+TEST(AtspSolver, ChainedSearchStillFindsSmallOptima) {
+  AtspConfig cfg;
+  cfg.exact_max_nodes = 0;
+  cfg.chains = 4;
+  for (int n = 5; n <= 13; ++n)
+    for (uint64_t s = 0; s < 3; ++s) {
+      const CostMatrix c = randomMatrix(n, 11 * n + s);
+      EXPECT_NEAR(AtspSolver(cfg).solveTour(c, s).cost, solveAtspExact(c).cost, 1e-9)
+          << "n=" << n << " seed=" << s;
+    }
+}
+
 TEST(AtspSolver, UnreachableEdgesAvoidedWhenPossibleAndReportedOtherwise) {
   CostMatrix c = randomMatrix(8, 2);
   // Forbid everything out of node 3 except 3 -> 5: every optimal tour uses it.
@@ -168,6 +227,9 @@ TEST(AtspSolver, RejectsBadInputAndConfig) {
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("atsp.exact_max_nodes"), std::string::npos);
   }
+  cfg = AtspConfig();
+  cfg.chains = 0;
+  EXPECT_THROW(AtspSolver{cfg}, ConfigError);
   EXPECT_TRUE(AtspSolver().solveTour(CostMatrix(0)).order.empty());
   EXPECT_EQ(AtspSolver().solveTour(CostMatrix(1)).order, std::vector<int>{0});
 }

@@ -109,6 +109,35 @@ TEST(HierarchicalPlanner, TwoHypothesesUseTheRiskStep) {
   EXPECT_FALSE(r.tour.viewpoints.empty());
 }
 
+TEST(HierarchicalPlanner, KeptRolloutWorkersChangeNothing) {
+  const GuidepointPrior prior = corridor(24);  // more guidepoints than dynamic programming takes
+  PlanningInput in = scene().input();
+  in.prior = &prior;
+  in.hypotheses = {Hypothesis{1, Sim2(), 0.6}, Hypothesis{2, Sim2(0.05, 1.02, {3.0, 1.0}), 0.4}};
+  const PlanningResult fresh = HierarchicalPlanner().plan(in);
+  ASSERT_EQ(fresh.sequences.size(), 2u);
+  EXPECT_GT(fresh.sequences[0].problem.problem.cost.size(), 14);  // the root rollout is an ILS
+  HierarchicalPlannerConfig cfg;
+  cfg.mcts.threads = 2;
+  const HierarchicalPlanner kept(cfg);
+  for (int run = 0; run < 2; ++run) {
+    const PlanningResult r = kept.plan(in);
+    ASSERT_EQ(r.sequences.size(), fresh.sequences.size());
+    for (size_t k = 0; k < r.sequences.size(); ++k) {
+      EXPECT_EQ(r.sequences[k].mcts.sequence, fresh.sequences[k].mcts.sequence);
+      EXPECT_EQ(r.sequences[k].mcts.best_length_by_first,
+                fresh.sequences[k].mcts.best_length_by_first);
+    }
+    EXPECT_EQ(r.selection.guidepoint_sequence, fresh.selection.guidepoint_sequence);
+    EXPECT_EQ(r.tour.viewpoints, fresh.tour.viewpoints);
+  }
+  // Each hypothesis has its own seed, as a sequencer configured with it would.
+  MctsConfig second = cfg.mcts;
+  second.seed = cfg.mcts.seed + 7919;
+  EXPECT_EQ(MctsSequencer(second).solve(fresh.sequences[1].problem.problem).sequence,
+            fresh.sequences[1].mcts.sequence);
+}
+
 TEST(HierarchicalPlanner, GuidepointsFarOutsideTheMapAreIgnored) {
   const GuidepointPrior prior = corridor(4);
   PlanningInput in = scene().input();

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <random>
+#include <string>
+#include <thread>
 
 #include "efs_common/config_check.h"
 #include "prior_guided_planner/mcts_sequencer.h"
@@ -30,30 +32,35 @@ double sequenceLength(const MctsProblem& p, const std::vector<int>& s) {
 }
 
 TEST(MctsSequencer, FindsTheExhaustiveOptimumOnSmallInstances) {
-  const MctsSequencer mcts;
-  for (int n = 2; n <= 8; ++n)
-    for (uint64_t s = 0; s < 4; ++s) {
-      const MctsProblem p = randomProblem(n, 1 + static_cast<int>(s % 3), 13 * n + s);
-      const MctsResult r = mcts.solve(p), ex = solveSequenceExhaustive(p);
-      ASSERT_TRUE(r.feasible);
-      EXPECT_NEAR(r.length, ex.length, 1e-9) << "n=" << n << " seed=" << s;
-      // A valid sequence: every guidepoint once, the first one exploring.
-      std::vector<int> sorted = r.sequence;
-      std::sort(sorted.begin(), sorted.end());
-      for (int k = 0; k < n; ++k) EXPECT_EQ(sorted[k], k + 1);
-      EXPECT_TRUE(p.exploring[r.sequence.front()]);
-      EXPECT_NEAR(sequenceLength(p, r.sequence), r.length, 1e-9);
-      // The per-first-guidepoint lengths kept for the risk step are exact here (rollouts on
-      // <= 13 nodes are solved by dynamic programming).
-      for (int g = 1; g <= n; ++g) {
-        if (!p.exploring[g]) {
-          EXPECT_EQ(r.best_length_by_first[g], kUnreachable);
-          continue;
+  // Sequentially and on kept workers with more threads than rollouts in some batches.
+  MctsConfig parallel;
+  parallel.threads = 4;
+  parallel.root_chains = 3;
+  for (const MctsSequencer& mcts : {MctsSequencer(), MctsSequencer(parallel)})
+    for (int n = 2; n <= 8; ++n)
+      for (uint64_t s = 0; s < 4; ++s) {
+        const MctsProblem p = randomProblem(n, 1 + static_cast<int>(s % 3), 13 * n + s);
+        const MctsResult r = mcts.solve(p), ex = solveSequenceExhaustive(p);
+        ASSERT_TRUE(r.feasible);
+        EXPECT_NEAR(r.length, ex.length, 1e-9)
+            << "n=" << n << " seed=" << s << " threads=" << mcts.config().threads;
+        // A valid sequence: every guidepoint once, the first one exploring.
+        std::vector<int> sorted = r.sequence;
+        std::sort(sorted.begin(), sorted.end());
+        for (int k = 0; k < n; ++k) EXPECT_EQ(sorted[k], k + 1);
+        EXPECT_TRUE(p.exploring[r.sequence.front()]);
+        EXPECT_NEAR(sequenceLength(p, r.sequence), r.length, 1e-9);
+        // The per-first-guidepoint lengths kept for the risk step are exact here (rollouts on
+        // <= 13 nodes are solved by dynamic programming).
+        for (int g = 1; g <= n; ++g) {
+          if (!p.exploring[g]) {
+            EXPECT_EQ(r.best_length_by_first[g], kUnreachable);
+            continue;
+          }
+          EXPECT_NEAR(r.best_length_by_first[g], ex.best_length_by_first[g], 1e-9);
+          EXPECT_EQ(r.best_sequence_by_first[g].front(), g);
         }
-        EXPECT_NEAR(r.best_length_by_first[g], ex.best_length_by_first[g], 1e-9);
-        EXPECT_EQ(r.best_sequence_by_first[g].front(), g);
       }
-    }
 }
 
 TEST(MctsSequencer, ResultDoesNotDependOnThreadCount) {
@@ -69,6 +76,64 @@ TEST(MctsSequencer, ResultDoesNotDependOnThreadCount) {
   EXPECT_EQ(a.rollouts, b.rollouts);
   // Iteration 1 expands the whole root (4 exploring), then up to 4 per iteration.
   EXPECT_EQ(a.rollouts, 1 + 4 + 7 * 4);
+}
+
+void expectSameResult(const MctsResult& a, const MctsResult& b) {
+  EXPECT_EQ(a.sequence, b.sequence);
+  EXPECT_EQ(a.length, b.length);
+  EXPECT_EQ(a.best_length_by_first, b.best_length_by_first);
+  EXPECT_EQ(a.best_sequence_by_first, b.best_sequence_by_first);
+  EXPECT_EQ(a.rollouts, b.rollouts);
+  EXPECT_EQ(a.tree_nodes, b.tree_nodes);
+}
+
+TEST(MctsSequencer, RootChainsAndThreadsAreIndependent) {
+  // 60 guidepoints: the root rollout is an ILS (not dynamic programming), split into chains.
+  const MctsProblem p = randomProblem(60, 6, 17);
+  MctsConfig c;
+  c.iterations = 6;
+  for (int chains : {1, 3}) {
+    c.root_chains = chains;
+    c.threads = 1;
+    const MctsResult ref = MctsSequencer(c).solve(p);
+    ASSERT_TRUE(ref.feasible);
+    for (int threads : {2, 4}) {
+      c.threads = threads;
+      SCOPED_TRACE("chains " + std::to_string(chains) + ", threads " + std::to_string(threads));
+      expectSameResult(MctsSequencer(c).solve(p), ref);
+    }
+  }
+}
+
+TEST(MctsSequencer, KeptWorkersGiveTheResultOfAFreshSequencer) {
+  const MctsProblem a = randomProblem(40, 4, 3), b = randomProblem(25, 3, 4);
+  MctsConfig c;
+  c.iterations = 10;
+  c.threads = 3;
+  const MctsSequencer kept(c);
+  const MctsResult a1 = kept.solve(a), b1 = kept.solve(b), a2 = kept.solve(a);
+  expectSameResult(a1, MctsSequencer(c).solve(a));
+  expectSameResult(b1, MctsSequencer(c).solve(b));
+  expectSameResult(a2, a1);
+  // A seed per call is the same as a sequencer configured with it.
+  MctsConfig seeded = c;
+  seeded.seed = 99;
+  expectSameResult(kept.solve(a, 99), MctsSequencer(seeded).solve(a));
+}
+
+TEST(MctsSequencer, ConcurrentSolvesShareTheWorkers) {
+  const MctsProblem p = randomProblem(30, 3, 8);
+  MctsConfig c;
+  c.iterations = 8;
+  c.threads = 2;
+  const MctsSequencer shared(c);
+  const MctsResult ref = MctsSequencer(c).solve(p);
+  std::vector<MctsResult> out(3);
+  std::vector<std::thread> callers;
+  for (size_t k = 0; k < out.size(); ++k)
+    callers.emplace_back([&, k] { out[k] = shared.solve(p); });
+  for (auto& t : callers) t.join();
+  for (const MctsResult& r : out) expectSameResult(r, ref);
 }
 
 TEST(MctsSequencer, MoreIterationsNeverWorse) {
@@ -102,17 +167,23 @@ TEST(MctsSequencer, EdgeCasesAndBadInput) {
   p = randomProblem(5, 1, 1);
   p.cost(2, 3) = std::nan("");
   EXPECT_THROW(MctsSequencer().solve(p), std::invalid_argument);
+  const auto expectRejected = [](const MctsConfig& c, const std::string& key) {
+    try {
+      MctsSequencer s(c);
+      ADD_FAILURE() << key << " accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
   MctsConfig c;
   c.exploration_constant = -1.0;
-  try {
-    MctsSequencer s(c);
-    FAIL();
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("mcts.exploration_constant"), std::string::npos);
-  }
+  expectRejected(c, "mcts.exploration_constant");
   c = MctsConfig();
   c.threads = 0;
-  EXPECT_THROW(MctsSequencer{c}, ConfigError);
+  expectRejected(c, "mcts.threads");
+  c = MctsConfig();
+  c.root_chains = 0;
+  expectRejected(c, "mcts.root_chains");
 }
 
 }  // namespace

@@ -8,13 +8,15 @@
 //    over candidate neighbour lists with a work queue of "dirty" nodes) and random double-bridge
 //    kicks (the orientation-preserving segment swap over random cuts), accepting equal or
 //    better tours. Reversal-free moves keep the cost of every untouched edge, which is what
-//    makes them safe on asymmetric matrices.
+//    makes them safe on asymmetric matrices. The kicks may be split into independent chains
+//    that share the start and run side by side; the best chain wins.
 //  - Open paths with a fixed start and a fixed end through the standard dummy-node
 //    transformation; a free end by making every edge back to the start free.
 // Deterministic for a given seed; no clock is read: effort is a kick budget, not a time.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "prior_guided_planner/cost_matrix.h"
@@ -37,10 +39,17 @@ struct AtspConfig {
   /// Start from the assignment relaxation's cycle cover patched into one tour, and rank the
   /// candidate neighbours by its reduced costs; otherwise nearest neighbour and raw costs.
   bool assignment_start = true;
+  /// The kick budget is shared by this many independent chains from the same local optimum
+  /// (seeds derived from the solve's seed, chain 0 keeping it); the shortest tour wins, ties to
+  /// the lower chain. Only the chain count changes the result, not how the chains are run.
+  int chains = 1;
   uint64_t seed = 1;
 
   void validate() const;
 };
+
+/// Runs fn(0) .. fn(jobs - 1), possibly side by side, and returns when all have finished.
+using ParallelFor = std::function<void(int jobs, const std::function<void(int)>& fn)>;
 
 struct AtspResult {
   /// Closed tour: a permutation starting at node 0. Open path: start ... end (or free end).
@@ -50,6 +59,7 @@ struct AtspResult {
   double cost = 0.0;
   bool feasible = true;
   bool exact = false;
+  /// Kicks made, over all chains.
   int kicks = 0;
 };
 
@@ -59,9 +69,11 @@ class AtspSolver {
 
   explicit AtspSolver(AtspConfig config = {});
 
-  /// Best closed tour through all nodes of `c` (square, no NaN, diagonal ignored).
+  /// Best closed tour through all nodes of `c` (square, no NaN, diagonal ignored). `parallel`,
+  /// if given, runs the chains.
   AtspResult solveTour(const CostMatrix& c) const { return solveTour(c, config_.seed); }
-  AtspResult solveTour(const CostMatrix& c, uint64_t seed) const;
+  AtspResult solveTour(const CostMatrix& c, uint64_t seed,
+                       const ParallelFor* parallel = nullptr) const;
 
   /// Best Hamiltonian path from `start` to `end` (kFreeEnd: ends anywhere).
   AtspResult solveOpenPath(const CostMatrix& c, int start, int end) const {
@@ -70,7 +82,8 @@ class AtspSolver {
   /// `initial_order`, if given, is a warm start: a permutation of all nodes beginning with
   /// `start` (and ending with `end` when it is fixed); the assignment start is then skipped.
   AtspResult solveOpenPath(const CostMatrix& c, int start, int end, uint64_t seed,
-                           const std::vector<int>* initial_order = nullptr) const;
+                           const std::vector<int>* initial_order = nullptr,
+                           const ParallelFor* parallel = nullptr) const;
 
   const AtspConfig& config() const { return config_; }
 

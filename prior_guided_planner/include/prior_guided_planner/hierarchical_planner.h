@@ -88,6 +88,8 @@ class HierarchicalPlanner {
   LocalTour priorFreeTour(const PlanningInput& in, const std::vector<double>& robot_len) const;
 
   HierarchicalPlannerConfig config_;
+  /// Kept between plans so that its rollout workers are too.
+  MctsSequencer mcts_;
 };
 
 }  // namespace efs::planner
