@@ -8,7 +8,8 @@ namespace efs::mission {
 PlanLog::PlanLog(std::ostream& out) : out_(out) {
   out_ << "time_s,x_m,y_m,z_m,state,mode,active_hypothesis,hypotheses,viewpoints,unexplored,"
           "exploring,explored,outside,target_group,isolated,next_guidepoint_x_m,"
-          "next_guidepoint_y_m,terminal_x_m,terminal_y_m,goal_x_m,goal_y_m,goal_z_m,tour\n";
+          "next_guidepoint_y_m,terminal_x_m,terminal_y_m,goal_x_m,goal_y_m,goal_z_m,viewpoint_x_m,"
+          "viewpoint_y_m,viewpoint_z_m,tour\n";
 }
 
 void PlanLog::record(double time_s, const Eigen::Vector3d& robot,
@@ -30,12 +31,16 @@ void PlanLog::record(double time_s, const Eigen::Vector3d& robot,
        << manager.viewpoints().size() << ',' << states[0] << ',' << states[1] << ',' << states[2]
        << ',' << states[3] << ',' << plan->selection.target_viewpoints.size() << ','
        << plan->selection.isolated_viewpoints.size() << ',' << xy(0) << ',' << xy(1) << ',';
-  if (target.has_goal) {
-    out_ << target.goal_world_m.x() << ',' << target.goal_world_m.y() << ','
-         << target.goal_world_m.z();
-  } else {
-    out_ << ",,";
-  }
+  const auto xyz = [&](const Eigen::Vector3d& p) {
+    if (target.has_goal) {
+      out_ << p.x() << ',' << p.y() << ',' << p.z();
+    } else {
+      out_ << ",,";
+    }
+  };
+  xyz(target.goal_world_m);
+  out_ << ',';
+  xyz(target.viewpoint_world_m);
   out_ << ',' << plan->tour.viewpoints.size() << '\n';
   ++rows_;
 }

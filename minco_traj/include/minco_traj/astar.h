@@ -37,7 +37,8 @@ struct AStarConfig {
   /// path around an office desk dove to 0.35 m and hit it).
   double unknown_cost_factor = 1.0;
   /// With unknown_is_free: unknown cells are traversable only within this height of the band
-  /// between the start's and the goal's heights. The LiDAR looks neither straight down nor
+  /// from the start's height up to the goal's (a goal below: the start's height alone; the way
+  /// down crosses seen space). The LiDAR looks neither straight down nor
   /// straight up (Mid-360: -7 to 52 deg, pitched), so a route that leaves that band through
   /// unknown space heads for a floor or ceiling nobody has seen (seen in ed21: a detour under
   /// a desk dove from 1.2 m to 0.35 m and hit the floor; one over a wall climbed to 2.25 m and
@@ -75,8 +76,8 @@ class AStarPlanner {
   AStarResult plan(const LocalGrid& grid, const Eigen::Vector3d& start_world_m,
                    const Eigen::Vector3d& goal_world_m) const;
   /// True if no cell on the segment is blocked.
-  /// Straight segment a -> b through traversable cells (unknown ones within
-  /// unknown_height_margin_m of the heights of a and b).
+  /// Straight segment a -> b through traversable cells (unknown ones within the band of
+  /// unknown_height_margin_m, from a's height up to b's).
   bool lineOfSight(const LocalGrid& grid, const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
   /// Nearest traversable cell within radius_m (by centre distance), false if none.
   bool nearestFree(const LocalGrid& grid, const VoxelKey& k, double radius_m, VoxelKey* out) const;
