@@ -25,6 +25,18 @@ boost::shared_ptr<const M> waitForMessage(ros::NodeHandle& nh, const std::string
   return ros::topic::waitForMessage<M>(topic, nh, ros::Duration(timeout_s));
 }
 
+/// Waits up to `timeout_wall_s` (wall time) for the first /clock message under use_sim_time.
+/// roscpp subscribes to /clock on its own, independently of the test's subscriptions: a message
+/// on another topic can arrive while the simulated time still reads zero.
+inline bool waitForSimTime(double timeout_wall_s) {
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_wall_s);
+  while (ros::Time::now().isZero()) {
+    if (ros::WallTime::now() > deadline) return false;
+    ros::WallDuration(0.01).sleep();
+  }
+  return true;
+}
+
 /// True if a node of that name is registered with the master.
 inline bool nodeAlive(const std::string& name) {
   std::vector<std::string> nodes;
