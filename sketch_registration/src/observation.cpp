@@ -23,13 +23,13 @@ void ObservationConfig::validate() const {
   requireInRange("icp_max_points", icp_max_points, 10, 10000000);
 }
 
-namespace {
-long long cellKey(const Eigen::Vector2d& d, double cell_m) {
+long long gridCellKey(const Eigen::Vector2d& d, double cell_m) {
   const long long ix = static_cast<long long>(std::floor(d.x() / cell_m));
   const long long iy = static_cast<long long>(std::floor(d.y() / cell_m));
   return (ix << 32) ^ (iy & 0xffffffffLL);
 }
 
+namespace {
 struct Column {
   Eigen::Vector2d sum_m = Eigen::Vector2d::Zero();
   std::vector<float> z_m;
@@ -54,7 +54,7 @@ ProjectedMap observeLocalMap(const Points3d& local_map, const Eigen::Vector3d& r
     const Eigen::Vector2d d = p.head<2>() - robot.head<2>();
     if (d.squaredNorm() > r2) continue;
     ++out.num_in_band;
-    const auto [it, added] = index.emplace(cellKey(d, config.column_cell_m), columns.size());
+    const auto [it, added] = index.emplace(gridCellKey(d, config.column_cell_m), columns.size());
     if (added) columns.emplace_back();
     Column& c = columns[it->second];
     c.sum_m += p.head<2>();
@@ -74,6 +74,7 @@ ProjectedMap observeLocalMap(const Points3d& local_map, const Eigen::Vector3d& r
     }
     if (max_gap > config.wall_max_gap_m) {
       ++out.num_passage_columns;
+      out.passage_m.push_back(centre);
       continue;
     }
     if (c.z_m.back() - c.z_m.front() >= config.wall_min_height_m) out.points_m.push_back(centre);
@@ -90,7 +91,7 @@ Points2d thinToGrid(const Points2d& points, const Eigen::Vector2d& centre, doubl
   for (const auto& p : points) {
     const Eigen::Vector2d d = p - centre;
     if (d.squaredNorm() > r2) continue;
-    if (seen.insert(cellKey(d, voxel_m)).second) out.push_back(p);
+    if (seen.insert(gridCellKey(d, voxel_m)).second) out.push_back(p);
   }
   return out;
 }
@@ -113,6 +114,7 @@ Observation observe(const Points3d& local_map, const Eigen::Vector3d& robot,
   o.descriptor_m = thinToGrid(o.map.points_m, xy, descriptor_range_m, config.column_cell_m);
   o.icp_dense_m = thinToGrid(o.map.points_m, xy, config.icp_range_m, config.icp_voxel_m);
   o.icp_m = thinEvenly(o.icp_dense_m, static_cast<size_t>(config.icp_max_points));
+  o.passage_m = thinToGrid(o.map.passage_m, xy, config.icp_range_m, config.column_cell_m);
   return o;
 }
 

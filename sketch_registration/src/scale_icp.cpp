@@ -227,6 +227,20 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
   return r;
 }
 
+HistoryFit ScaleIcp::historyFit(const Sim2& T, const Points2d& remembered) const {
+  HistoryFit h;
+  if (tree_.size() == 0 || !T.isFinite() || !(T.scale > 0.0)) return h;
+  const Sim2 inv = T.inverse();
+  for (const auto& p : remembered) {
+    ++h.points;
+    const Eigen::Vector2d q = inv.apply(p);
+    if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
+    ++h.inside;
+    h.explained += T.scale * std::sqrt(tree_.nearest(q).second) <= config_.inlier_distance_m;
+  }
+  return h;
+}
+
 IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
                            double start_correspondence_m, const ObservedIndex* reverse) const {
   Sim2 T = T_init;

@@ -54,6 +54,13 @@ void SketchRegistrationConfig::validate() const {
   requireInRange("mirror_min_age_frames", mirror_min_age_frames, 1, 100000);
   requireInRange("max_hypotheses", max_hypotheses, 1, 100000);
   requirePositive("merge_distance", merge_distance);
+  history.validate();
+  requireInRange("history_inlier_slack", history_inlier_slack, 0.0, 1.0);
+  requireInRange("history_min_inlier_ratio", history_min_inlier_ratio, 0.0, 1.0);
+  requireInRange("history_inlier_margin", history_inlier_margin, 0.0, 1.0);
+  requireThat(history_kept_min_inlier_ratio >= 0.0 &&
+                  history_kept_min_inlier_ratio <= history_min_inlier_ratio,
+              "history_kept_min_inlier_ratio", "must be in [0, history_min_inlier_ratio]");
   sketchDescriptorConfig(*this).validate();
   observationDescriptorConfig(*this).validate();
   retrievalConfig(*this).validate();
@@ -123,7 +130,7 @@ SketchRegistrationConfig validated(const SketchRegistrationConfig& c) {
 
 SketchRegistration::SketchRegistration(const Config& config, Points2d sketch_boundary_m,
                                        Points2d candidates_m)
-    : config_(validated(config)), verifier_(verifierConfig(config_)) {
+    : config_(validated(config)), verifier_(verifierConfig(config_)), history_(config_.history) {
   for (const auto& p : sketch_boundary_m) {
     if (p.allFinite()) sketch_.push_back(p);
   }
@@ -133,10 +140,28 @@ SketchRegistration::SketchRegistration(const Config& config, Points2d sketch_bou
 
 void SketchRegistration::reset() {
   verifier_.reset();
+  history_.reset();
   live_.clear();
   rejected_.clear();
   result_ = RegistrationResult{};
   has_last_ = false;
+}
+
+HistoryFit SketchRegistration::historyFit(const Sim2& T) const {
+  return icp_->historyFit(T, history_.beyond());
+}
+
+bool SketchRegistration::historyInUse() const {
+  return config_.history.enabled &&
+         history_.beyondCount() >= static_cast<size_t>(config_.history.min_points);
+}
+
+Points2d SketchRegistration::jointPoints(const Points2d& window) const {
+  Points2d joint = window;
+  if (historyInUse()) {
+    joint.insert(joint.end(), history_.beyond().begin(), history_.beyond().end());
+  }
+  return joint;
 }
 
 RegistrationResult& SketchRegistration::fail(RegistrationStatus status,
@@ -210,6 +235,7 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
   PointKdTree2d::Points dense(obs.icp_dense_m.begin(), obs.icp_dense_m.end());
   const PointKdTree2d dense_tree(std::move(dense));
   const ObservedIndex observed{&dense_tree, robot_xy};
+  history_.update(robot_xy, obs.icp_dense_m, obs.passage_m, config_.observation.icp_range_m);
   updateHypotheses(icp_points, observed, diag);
   result_.last_frame = diag;
   // No transform survived the fitness test: whatever tracks the verifier still follows are not
@@ -312,6 +338,7 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
     std::optional<int> id;
     int age;
     IcpResult r;
+    HistoryFit history;
   };
   ++frame_counter_;
   rejected_.erase(std::remove_if(rejected_.begin(), rejected_.end(),
@@ -321,10 +348,29 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
                                  }),
                   rejected_.end());
   std::vector<Refined> refined;
+  // Walls seen earlier beyond the window join the refinement: they pin the scale and yaw that
+  // the window leaves loose (see observation_history.h).
+  const bool use_history = historyInUse();
+  const Points2d joint = jointPoints(icp_points);
+  const double narrow_m = 1.5 * config_.icp.min_correspondence_m;
   for (const Input& in : inputs) {
     // Live hypotheses were refined last frame: a narrow capture radius suffices.
-    const IcpResult r = icp_->refine(
-        in.T, icp_points, in.id ? 1.5 * config_.icp.min_correspondence_m : 0.0, &observed);
+    IcpResult r = icp_->refine(in.T, icp_points, in.id ? narrow_m : 0.0, &observed);
+    if (use_history && (r.usable || in.id)) {
+      // A live hypothesis continues from its own (joint) transform: refined on the window first,
+      // it would slide back to the window's loose optimum, metres off at the remembered walls
+      // and beyond the narrow capture radius. A new one starts from its window fit, with the
+      // wide radius (a 2 % scale error is 2 m at 100 m).
+      const IcpResult g = in.id ? icp_->refine(in.T, joint, narrow_m, &observed)
+                                : icp_->refine(r.T_world_sketch, joint,
+                                               config_.icp.max_correspondence_m, &observed);
+      // The window's own fit at the joint transform decides, as without a history.
+      const IcpResult e = icp_->evaluate(g.T_world_sketch, icp_points, &observed);
+      if (e.usable &&
+          (!r.usable || e.inlier_ratio >= r.inlier_ratio - config_.history_inlier_slack)) {
+        r = e;
+      }
+    }
     ++diag.icp_runs;
     const bool confirmed = in.id && in.age >= config_.confirm_frames;
     const double max_fitness =
@@ -335,7 +381,17 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
       if (!in.id) rejected_.push_back({in.T, frame_counter_});
       continue;
     }
-    refined.push_back({in.id, in.age, r});
+    HistoryFit hf;
+    if (use_history) {
+      hf = icp_->historyFit(r.T_world_sketch, history_.beyond());
+      const double min_history =
+          confirmed ? config_.history_kept_min_inlier_ratio : config_.history_min_inlier_ratio;
+      if (hf.inside >= config_.history.min_points && !(hf.inlierRatio() >= min_history)) {
+        if (!in.id) rejected_.push_back({in.T, frame_counter_});
+        continue;
+      }
+    }
+    refined.push_back({in.id, in.age, r, hf});
   }
   std::stable_sort(refined.begin(), refined.end(), [](const Refined& a, const Refined& b) {
     return a.r.fitness_m < b.r.fitness_m;
@@ -357,6 +413,26 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
     }
     if (!merged) kept.push_back(f);
   }
+  // Hypotheses compete on the remembered walls: along a repetitive passage a placement one
+  // module off fits the window and the straight walls behind as well as the truth, and only the
+  // distinct parts seen earlier tell them apart (synthetic corridor of identical rooms: the truth
+  // lays 0.92 of the remembered walls on the sketch, placements 16 and 32 m off 0.65-0.81).
+  // Only a reported (confirmed) hypothesis sets the bar: a new transform that fits one frame's
+  // remembered walls better must first be confirmed before it displaces an established one
+  // (a mildly deformed office drawing lost its true placement to such one-frame fits).
+  double best_history = -1.0;
+  for (const Refined& k : kept) {
+    if (k.history.inside >= config_.history.min_points && k.age + 1 >= config_.confirm_frames) {
+      best_history = std::max(best_history, k.history.inlierRatio());
+    }
+  }
+  kept.erase(std::remove_if(kept.begin(), kept.end(),
+                            [&](const Refined& k) {
+                              return k.history.inside >= config_.history.min_points &&
+                                     k.history.inlierRatio() <
+                                         best_history - config_.history_inlier_margin;
+                            }),
+             kept.end());
   if (static_cast<int>(kept.size()) > config_.max_hypotheses) {
     kept.resize(static_cast<size_t>(config_.max_hypotheses));
   }
@@ -368,6 +444,7 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
     h.fitness_m = k.r.fitness_m;
     h.inlier_ratio = k.r.inlier_ratio;
     h.coverage = k.r.coverage;
+    h.history = k.history;
     h.age_frames = k.age + 1;
     live_.push_back(h);
   }

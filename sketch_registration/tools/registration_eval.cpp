@@ -45,7 +45,7 @@
 // --kept-fitness-threshold-m, --kept-min-inlier-ratio, --inlier-distance-m, --slice-min-dz-m,
 // --slice-max-dz-m, --wall-columns 0|1, --column-cell-m, --wall-min-height-m, --wall-max-gap-m,
 // --icp-range-m, --max-range-m, --unknown-empty-bins 0|1, --settled-coverage,
-// --coverage-weight-m.
+// --coverage-weight-m, --history 0|1.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -200,6 +200,8 @@ struct FlyableGraph {
   std::vector<std::vector<std::pair<int, double>>> adj;
   int start_node = 0;
   size_t reachable = 0;  ///< nodes connected to start_node
+  /// Bounding-box diagonals of the reachable and of all flyable nodes.
+  double reachable_extent_m = 0.0, flyable_extent_m = 0.0;
 };
 
 FlyableGraph flyableGraph(const sim::VoxelWorld& world, const SketchInput& precise,
@@ -208,9 +210,14 @@ FlyableGraph flyableGraph(const sim::VoxelWorld& world, const SketchInput& preci
   pc.node_spacing_m = node_spacing_m;
   const pm::Prm prm = pm::buildPrm(precise.bundle.traversable, precise.bundle.frame, pc);
   const Sim2& T = *precise.T_world_sketch;
-  // Each node flies at the free height nearest the start's (caves have uneven floors).
+  // Each node flies at the free height nearest the start's (caves have uneven floors), searched
+  // over the world's whole height: the paper-size cave climbs tens of metres (max slope 0.35),
+  // and a search of +-10 m left its far parts unflyable (804 of 2274 nodes).
+  const int steps = std::max(
+      40,
+      static_cast<int>(std::ceil((world.bounds().max().z() - world.bounds().min().z()) / 0.25)));
   const auto flyHeight = [&](const Vector2d& p) -> std::optional<double> {
-    for (int k = 0; k <= 40; ++k) {
+    for (int k = 0; k <= steps; ++k) {
       for (int sign : {1, -1}) {
         const double z = start.z() + sign * 0.25 * k;
         if (z < world.bounds().min().z() || z > world.bounds().max().z()) continue;
@@ -252,15 +259,20 @@ FlyableGraph flyableGraph(const sim::VoxelWorld& world, const SketchInput& preci
   std::vector<char> seen(g.nodes.size(), 0);
   std::vector<int> stack{g.start_node};
   seen[g.start_node] = 1;
+  Eigen::AlignedBox2d reached, flyable;
+  for (const Vector3d& n : g.nodes) flyable.extend(n.head<2>());
   while (!stack.empty()) {
     const int u = stack.back();
     stack.pop_back();
     ++g.reachable;
+    reached.extend(g.nodes[u].head<2>());
     for (const auto& [v, w] : g.adj[u]) {
       (void)w;
       if (!seen[v]) seen[v] = 1, stack.push_back(v);
     }
   }
+  g.reachable_extent_m = reached.diagonal().norm();
+  g.flyable_extent_m = flyable.diagonal().norm();
   return g;
 }
 
@@ -272,13 +284,20 @@ Route planRoute(const sim::VoxelWorld& world, double max_length_m) {
   // rooms are joined by doors that straight edges between 1 m nodes rarely pass with clearance
   // (14 of 229 flyable nodes reachable), and the flight stayed in its start room (2026-11-25).
   // The bound leaves the generated worlds' routes as they were (indoor: 58 of 148 reachable).
+  // Nor must the reachable part be a corner of the world: in the paper-size cave (495 x 43 m)
+  // 258 of 804 flyable 1 m nodes were reachable, all within 64 x 26 m of the start, and the
+  // flight toured that corner for 800 m (2026-11-25).
   FlyableGraph g;
   for (double spacing : {1.0, 0.5, 0.25}) {
     g = flyableGraph(world, precise, spacing, start);
     std::fprintf(stderr,
-                 "route: %.2f m PRM, %zu nodes, %zu flyable, %zu reachable from the start\n",
-                 spacing, g.prm_nodes, g.nodes.size(), g.reachable);
-    if (4 * g.reachable >= g.nodes.size()) break;
+                 "route: %.2f m PRM, %zu nodes, %zu flyable, %zu reachable from the start, "
+                 "spanning %.0f of %.0f m\n",
+                 spacing, g.prm_nodes, g.nodes.size(), g.reachable, g.reachable_extent_m,
+                 g.flyable_extent_m);
+    if (4 * g.reachable >= g.nodes.size() && 2.0 * g.reachable_extent_m >= g.flyable_extent_m) {
+      break;
+    }
   }
   if (g.nodes.empty()) throw std::runtime_error("no flyable PRM node in the world");
   const std::vector<Vector3d>& nodes = g.nodes;
@@ -670,8 +689,12 @@ struct TrialResult {
   double final_error_m = std::nan("");  ///< with truth: best hypothesis of the last frame with one
   double final_placement_m = std::nan("");  ///< RMS |T_est(p) - T_true(p)| of the same
   WallFit final_wall;                       ///< best hypothesis of the last frame with one
-  int frames_after_ttc = 0;                 ///< frames from TTC on
-  int correct_after_ttc = 0;                ///< of those, frames whose best hypothesis is a success
+  int reported_frames = 0;                  ///< frames with a reported (best) hypothesis
+  int wrong_frames = 0;  ///< of those, frames whose best hypothesis is not a success
+  int far_frames = 0;    ///< of those, placement error above 3 x the success bound (truth)
+  double worst_wrong_placement_m = 0.0;  ///< largest placement error of a wrong best (with truth)
+  int frames_after_ttc = 0;              ///< frames from TTC on
+  int correct_after_ttc = 0;             ///< of those, frames whose best hypothesis is a success
   double scale = std::nan("");
   int frames = 0;
   int hypotheses = 0;
@@ -726,6 +749,11 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
            fit->coverage >= opt.wall_inlier_ratio;
   };
 
+  if (opt.verbose && diag_truth) {
+    std::fprintf(stderr, "  truth: yaw %.2f deg, scale %.4f, t (%.2f, %.2f)%s; %zu candidates\n",
+                 diag_truth->yaw_rad * 180.0 / M_PI, diag_truth->scale, diag_truth->t_m.x(),
+                 diag_truth->t_m.y(), diag_truth->reflected ? ", reflected" : "", tr.candidates);
+  }
   std::optional<TruthDiagnostics> diagnostics;
   if (diag_truth) {
     diagnostics.emplace(TruthDiagnostics{*diag_truth,
@@ -779,6 +807,13 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
       WallFit fit;
       ok = judge(r.hypotheses.front().T_world_sketch, &err, &placement, &fit);
       if (ok && !tr.ttc_s) tr.ttc_s = t;
+      ++tr.reported_frames;
+      if (!ok) {
+        ++tr.wrong_frames;
+        if (std::isfinite(placement))
+          tr.worst_wrong_placement_m = std::max(tr.worst_wrong_placement_m, placement);
+        if (placement > 3.0 * opt.success_rmse_m) ++tr.far_frames;
+      }
       tr.final_error_m = err;
       tr.final_placement_m = placement;
       tr.final_wall = fit;
@@ -791,13 +826,16 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
     if (opt.verbose) {
       const reg::VerifierStats& vs = r.last_frame.verifier;
       std::fprintf(stderr,
-                   "    t %5.0f s  %-24s hyps %d  best error %s m  %s\n"
+                   "    t %5.0f s  %-24s hyps %d  best error %s m  %s; robot (%.0f, %.0f), %zu "
+                   "remembered walls beyond the window of %zu\n"
                    "           %zu candidates; pairs %zu (scale ok %zu), triplets %zu tested, %zu "
                    "accepted, %zu tracks, %zu representatives, %zu ICP runs\n",
                    t, reg::toString(r.status), static_cast<int>(r.hypotheses.size()),
-                   fmt(err).c_str(), r.message.c_str(), r.last_frame.candidates.size(),
-                   vs.anchor_pairs, vs.pairs_scale_ok, vs.triplets_tested, vs.triplets_accepted,
-                   vs.tracks, vs.representatives, r.last_frame.icp_runs);
+                   fmt(err).c_str(), r.message.c_str(), p.x(), p.y(),
+                   registration.history().beyondCount(), registration.history().size(),
+                   r.last_frame.candidates.size(), vs.anchor_pairs, vs.pairs_scale_ok,
+                   vs.triplets_tested, vs.triplets_accepted, vs.tracks, vs.representatives,
+                   r.last_frame.icp_runs);
       for (const auto* list : {&r.hypotheses, &r.mirrored_hypotheses}) {
         for (const reg::Hypothesis& h : *list) {
           double e = std::nan(""), pl = std::nan("");
@@ -806,11 +844,13 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
           std::fprintf(
               stderr,
               "           %s %d: F %.2f inliers %.2f coverage %.2f age %d scale %.3f yaw %.1f deg; "
-              "walls median %.2f m, on world %.0f %%, world covered %.0f %%%s\n",
+              "history %d in %d, inliers %.2f; "
+              "walls median %.2f m, on world %.0f %%, world covered %.0f %%, placement %.2f m%s\n",
               list == &r.hypotheses ? "hypothesis" : "mirrored", h.id, h.fitness_m, h.inlier_ratio,
               h.coverage, h.age_frames, h.T_world_sketch.scale,
-              h.T_world_sketch.yaw_rad * 180.0 / M_PI, f.median_m, 100.0 * f.inlier_ratio,
-              100.0 * f.coverage, good ? " (success)" : "");
+              h.T_world_sketch.yaw_rad * 180.0 / M_PI, h.history.inside, h.history.points,
+              h.history.inlierRatio(), f.median_m, 100.0 * f.inlier_ratio, 100.0 * f.coverage, pl,
+              good ? " (success)" : "");
         }
       }
     }
@@ -829,12 +869,13 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
         tr.truth_accepted += e.valid && e.fitness_m <= config.fitness_threshold_m;
       }
       if (opt.verbose) {
+        const reg::HistoryFit hf = registration.historyFit(*diag_truth);
         std::fprintf(
             stderr,
             "           truth: F %.2f (forward %.2f, reverse %.2f), inliers %.2f, coverage "
-            "%.2f, %d points, valid %d\n",
+            "%.2f, %d points, valid %d; history %d in %d, inliers %.2f\n",
             e.fitness_m, e.forward_fitness_m, e.reverse_fitness_m, e.inlier_ratio, e.coverage,
-            e.num_points, e.valid);
+            e.num_points, e.valid, hf.inside, hf.points, hf.inlierRatio());
         diagnostics->frame(p.head<2>(), r, registration, obs, index);
       }
     }
@@ -895,7 +936,8 @@ Options parse(int argc, char** argv) {
                         "max-range-m",
                         "unknown-empty-bins",
                         "settled-coverage",
-                        "coverage-weight-m"}) {
+                        "coverage-weight-m",
+                        "history"}) {
     valued.insert(k);
   }
   const efs::CliArgs args(argc, argv, valued, {"no-single-frame", "verbose"});
@@ -970,6 +1012,8 @@ Options parse(int argc, char** argv) {
       args.number("settled-coverage", o.registration.settled_coverage);
   o.registration.coverage_weight_m =
       args.number("coverage-weight-m", o.registration.coverage_weight_m);
+  o.registration.history.enabled =
+      args.integer("history", o.registration.history.enabled ? 1 : 0) != 0;
   o.registration.validate();
   efs::requireInRange("trials", o.trials, 1, 1000);
   efs::requirePositive("scale-guess", o.scale_guess_m_per_px);
@@ -1004,9 +1048,15 @@ int main(int argc, char** argv) {
     }
     const std::string scene = opt.variant ? sim::sketchVariantName(*opt.variant)
                                           : opt.sketch_path.substr(opt.sketch_path.rfind('/') + 1);
-    std::fprintf(stderr, "registration_eval: %s, %s sketch, route %.0f m (%zu waypoints)\n",
+    Eigen::AlignedBox2d route_box, world_box;
+    for (const Vector3d& w : route.waypoints_m) route_box.extend(w.head<2>());
+    for (const Vector2d& w : world_wall_points) world_box.extend(w);
+    std::fprintf(stderr,
+                 "registration_eval: %s, %s sketch, route %.0f m (%zu waypoints) spanning %.0f x "
+                 "%.0f m of the world's %.0f x %.0f m\n",
                  opt.world.describe().c_str(), scene.c_str(), route.length_m,
-                 route.waypoints_m.size());
+                 route.waypoints_m.size(), route_box.sizes().x(), route_box.sizes().y(),
+                 world_box.sizes().x(), world_box.sizes().y());
 
     SingleFrameStats sf;
     std::vector<TrialResult> trials;
@@ -1026,11 +1076,13 @@ int main(int argc, char** argv) {
       const TrialResult& t = trials.back();
       std::fprintf(stderr,
                    "  trial %d (seed %llu): %s, TTC %s s, error %s m, wall median %s m, %d frames, "
-                   "status %s; truth F median %s m, inliers median %s, coverage median %s min %s, "
-                   "accepted on %d frames\n",
+                   "status %s; wrong best on %d (far off %d) of %d reported frames; truth F "
+                   "median %s m, "
+                   "inliers median %s, coverage median %s min %s, accepted on %d frames\n",
                    i + 1, static_cast<unsigned long long>(seed), t.success ? "success" : "FAILURE",
                    t.ttc_s ? fmt(*t.ttc_s, 0).c_str() : "-", fmt(t.final_error_m).c_str(),
                    fmt(t.final_wall.median_m).c_str(), t.frames, t.final_status.c_str(),
+                   t.wrong_frames, t.far_frames, t.reported_frames,
                    fmt(median(t.truth_fitness_m)).c_str(), fmt(median(t.truth_inliers)).c_str(),
                    fmt(median(t.truth_coverage)).c_str(),
                    fmt(t.truth_coverage.empty()
@@ -1083,11 +1135,12 @@ int main(int argc, char** argv) {
           "sketch walls on "
           "world "
           "walls | world walls covered | "
-          "scale | right after TTC | hyps | status | candidates | Phase 1 [s] | frame median [ms] "
-          "| frame max [ms] "
-          "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+          "scale | right after TTC | wrong best (far off, worst placement) | hyps | status | "
+          "candidates | "
+          "Phase 1 [s] | frame median [ms] | frame max [ms] "
+          "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     std::vector<double> ttcs, errors, all_frames;
-    int successes = 0;
+    int successes = 0, wrong = 0, far = 0, reported = 0;
     for (size_t i = 0; i < trials.size(); ++i) {
       const TrialResult& t = trials[i];
       if (t.success) {
@@ -1096,12 +1149,19 @@ int main(int argc, char** argv) {
         if (std::isfinite(t.final_error_m)) errors.push_back(t.final_error_m);
       }
       all_frames.insert(all_frames.end(), t.frame_cpu_ms.begin(), t.frame_cpu_ms.end());
+      wrong += t.wrong_frames;
+      far += t.far_frames;
+      reported += t.reported_frames;
       md << "| " << i + 1 << " | " << t.seed << " | " << (t.success ? "yes" : "**no**") << " | "
          << (t.ttc_s ? fmt(*t.ttc_s, 0) : "-") << " | " << fmt(t.final_error_m) << " | "
          << fmt(t.final_placement_m) << " | " << fmt(t.final_wall.median_m) << " | "
          << pct(t.final_wall.inlier_ratio) << " | " << pct(t.final_wall.coverage) << " | "
          << fmt(t.scale, 3) << " | "
          << (t.frames_after_ttc ? pct(double(t.correct_after_ttc) / t.frames_after_ttc) : "-")
+         << " | " << t.wrong_frames << " / " << t.reported_frames
+         << (t.wrong_frames ? " (" + std::to_string(t.far_frames) + ", " +
+                                  fmt(t.worst_wrong_placement_m, 1) + " m)"
+                            : "")
          << " | " << t.hypotheses << " | " << t.final_status << " | " << t.candidates << " | "
          << fmt(t.precompute_s) << " | " << fmt(median(t.frame_cpu_ms), 0) << " | "
          << fmt(t.frame_cpu_ms.empty()
@@ -1110,10 +1170,11 @@ int main(int argc, char** argv) {
                 0)
          << " |\n";
     }
-    md << "\n| scene | TTC [s] (successes) | error [m] (successes) | success "
-          "|\n|---|---|---|---|\n";
+    md << "\n| scene | TTC [s] (successes) | error [m] (successes) | success | wrong best "
+          "frames (far off) |\n|---|---|---|---|---|\n";
     md << "| " << scene << " | " << fmt(mean(ttcs), 1) << " | " << fmt(mean(errors)) << " | "
-       << successes << " / " << trials.size() << " |\n\n";
+       << successes << " / " << trials.size() << " | " << wrong << " / " << reported << " (" << far
+       << ") |\n\n";
     md << "Frame update CPU time over all trials: median " << fmt(median(all_frames), 0)
        << " ms; evaluation wall time " << fmt(wall.elapsedSeconds(), 0) << " s.\n";
     std::cout << md.str() << std::flush;

@@ -42,6 +42,8 @@ struct ObservationConfig {
 
 struct ProjectedMap {
   Points2d points_m;  ///< one point per kept column: the mean position of its points
+  /// The passage columns' mean positions (ObservationHistory forgets remembered walls there).
+  Points2d passage_m;
   size_t num_input = 0;
   size_t num_non_finite = 0;
   size_t num_in_band = 0;
@@ -63,12 +65,16 @@ Points2d thinToGrid(const Points2d& points, const Eigen::Vector2d& centre_m, dou
 /// Keeps at most `max_points` with an even stride (deterministic).
 Points2d thinEvenly(const Points2d& points, size_t max_points);
 
+/// Key of the `cell_m` grid cell holding `p` (one key space for every 2D grid of the module).
+long long gridCellKey(const Eigen::Vector2d& p, double cell_m);
+
 /// What one frame hands to the descriptor and to Scale-ICP, all from one observeLocalMap call.
 struct Observation {
   ProjectedMap map;       ///< over max(descriptor_range_m, icp_range_m)
   Points2d descriptor_m;  ///< within descriptor_range_m, on the column grid
   Points2d icp_dense_m;   ///< within icp_range_m, on the icp_voxel_m grid (reverse fitness term)
   Points2d icp_m;         ///< icp_dense_m thinned to icp_max_points (ICP iterations)
+  Points2d passage_m;     ///< map.passage_m within icp_range_m
 };
 Observation observe(const Points3d& local_map_world_m, const Eigen::Vector3d& robot_world_m,
                     const ObservationConfig& config, double descriptor_range_m);

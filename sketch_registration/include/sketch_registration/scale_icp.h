@@ -84,6 +84,16 @@ struct IcpResult {
   bool scale_at_bound = false;  ///< refine() ended on scale_min or scale_max
 };
 
+/// How walls observed earlier (ObservationHistory::beyond) lie on the sketch mapped by a
+/// transform.
+struct HistoryFit {
+  int points = 0;     ///< remembered points evaluated
+  int inside = 0;     ///< of those, within the sketch's extent (bounding box + margin)
+  int explained = 0;  ///< within inlier_distance_m of a mapped sketch wall
+  /// explained / inside (1 without points inside).
+  double inlierRatio() const { return inside > 0 ? double(explained) / inside : 1.0; }
+};
+
 /// Relative distance to scale_min / scale_max under which a refined scale counts as pinned.
 constexpr double kScaleBoundTolerance = 0.01;
 
@@ -100,6 +110,9 @@ class ScaleIcp {
   /// Only the fitness of `T` (no iterations).
   IcpResult evaluate(const Sim2& T, const Points2d& observed_world_m,
                      const ObservedIndex* reverse = nullptr) const;
+
+  /// See HistoryFit.
+  HistoryFit historyFit(const Sim2& T, const Points2d& remembered_world_m) const;
 
   const ScaleIcpConfig& config() const { return config_; }
   size_t numSketchPoints() const { return tree_.size(); }

@@ -19,6 +19,7 @@
 #include "sketch_registration/geo_context.h"
 #include "sketch_registration/multi_frame_verifier.h"
 #include "sketch_registration/observation.h"
+#include "sketch_registration/observation_history.h"
 #include "sketch_registration/scale_icp.h"
 
 namespace efs::registration {
@@ -52,6 +53,7 @@ struct Hypothesis {
   double confidence = 0.0;
   double inlier_ratio = 0.0;
   double coverage = 0.0;  ///< IcpResult::coverage of this frame's observation
+  HistoryFit history;     ///< walls remembered beyond this frame's observation
   int age_frames =
       0;  ///< consecutive frames it passed the fitness test (reported from confirm_frames)
 };
@@ -89,6 +91,19 @@ struct SketchRegistrationConfig {
   VerifierConfig verifier;              ///< its scale and reflection fields are set from here
   ScaleIcpConfig icp;                   ///< its scale bounds are set from here
   ObservationConfig observation;
+  ObservationHistoryConfig history;
+  /// The joint (window + remembered walls) refinement replaces the window's own one unless it
+  /// lowers the window's inlier ratio by more than this.
+  double history_inlier_slack = 0.05;
+  /// Once history.min_points remembered walls lie within the sketch's extent, a new hypothesis
+  /// must lay this share of them onto sketch walls (HistoryFit::inlierRatio), a reported one
+  /// history_kept_min_inlier_ratio. Wrong placements that fit the window lay 0-0.45 of them on
+  /// walls (paper-size cave and garage), the truth 1.0 (cave, indoor) and 0.75-0.9 (garage).
+  double history_min_inlier_ratio = 0.6;
+  double history_kept_min_inlier_ratio = 0.45;
+  /// A hypothesis whose HistoryFit::inlierRatio falls this far below the best reported one's is
+  /// dropped.
+  double history_inlier_margin = 0.1;
   double fitness_threshold_m = 0.6;  ///< F_thresh (not given in the paper)
   /// Hysteresis: a hypothesis already reported survives while its F stays below this and its
   /// inlier ratio above kept_min_inlier_ratio; a new one must pass fitness_threshold_m and
@@ -141,6 +156,10 @@ class SketchRegistration {
   const MultiFrameVerifier& verifier() const { return verifier_; }
   const Config& config() const { return config_; }
   const Points2d& sketchBoundary() const { return sketch_; }
+  const ObservationHistory& history() const { return history_; }
+  /// How the remembered walls (beyond the last frame's observation) lie on the sketch mapped by
+  /// `T_world_sketch` (what the hypotheses carry; diagnostics for any transform).
+  HistoryFit historyFit(const Sim2& T_world_sketch) const;
   /// Forgets all frames and hypotheses (keeps Phase 1).
   void reset();
 
@@ -148,12 +167,17 @@ class SketchRegistration {
   void updateHypotheses(const Points2d& icp_points, const ObservedIndex& observed,
                         FrameDiagnostics& diag);
   RegistrationResult& fail(RegistrationStatus status, const std::string& message);
+  /// The history is used once history.min_points remembered walls lie beyond the window.
+  bool historyInUse() const;
+  /// `window_m` and, while the history is in use, the remembered walls beyond it.
+  Points2d jointPoints(const Points2d& window_m) const;
 
   Config config_;
   Points2d sketch_;
   CandidateDatabase database_;
   MultiFrameVerifier verifier_;
   std::unique_ptr<ScaleIcp> icp_;
+  ObservationHistory history_;
   RegistrationResult result_;
   std::vector<Hypothesis> live_;  ///< all refined hypotheses (both handednesses)
   struct Rejected {

@@ -72,6 +72,16 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   p.get("wall_max_gap_m", r.observation.wall_max_gap_m);
   p.get("max_speed_mps", r.max_speed_mps);
   p.get("max_hypotheses", r.max_hypotheses);
+  p.get("history_enabled", r.history.enabled);
+  p.get("history_cell_m", r.history.cell_m);
+  p.get("history_forget_radius_m", r.history.forget_radius_m);
+  p.get("history_radius_m", r.history.radius_m);
+  p.get("history_max_points", r.history.max_points);
+  p.get("history_min_points", r.history.min_points);
+  p.get("history_inlier_slack", r.history_inlier_slack);
+  p.get("history_min_inlier_ratio", r.history_min_inlier_ratio);
+  p.get("history_kept_min_inlier_ratio", r.history_kept_min_inlier_ratio);
+  p.get("history_inlier_margin", r.history_inlier_margin);
   p.rejectUnknown();
 
   requireThat(!c.markers.world_frame.empty(), "world_frame", "must not be empty");
