@@ -10,6 +10,11 @@
 
 namespace efs::registration {
 
+namespace {
+/// New inputs whose window fitness is within this factor of F_thresh get the joint refinement.
+constexpr double kJointFitnessFactor = 1.5;
+}  // namespace
+
 const char* toString(RegistrationStatus status) {
   switch (status) {
     case RegistrationStatus::kOk:
@@ -356,7 +361,15 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
   for (const Input& in : inputs) {
     // Live hypotheses were refined last frame: a narrow capture radius suffices.
     IcpResult r = icp_->refine(in.T, icp_points, in.id ? narrow_m : 0.0, &observed);
-    if (use_history && (r.usable || in.id)) {
+    // A new input whose window fit is far from the new-hypothesis bounds is not refined again
+    // over the remembered walls: the joint fit is judged by the window's fit at its transform,
+    // which the window's own refinement already optimised (on a 190 x 150 m garage ~120 inputs a
+    // frame, most of them far off).
+    const bool worth_joint =
+        in.id || (r.usable &&
+                  r.inlier_ratio >= config_.icp.min_inlier_ratio - config_.history_inlier_slack &&
+                  r.fitness_m <= kJointFitnessFactor * config_.fitness_threshold_m);
+    if (use_history && worth_joint) {
       // A live hypothesis continues from its own (joint) transform: refined on the window first,
       // it would slide back to the window's loose optimum, metres off at the remembered walls
       // and beyond the narrow capture radius. A new one starts from its window fit, with the
