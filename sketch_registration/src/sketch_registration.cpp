@@ -161,14 +161,6 @@ bool SketchRegistration::historyInUse() const {
          history_.beyondCount() >= static_cast<size_t>(config_.history.min_points);
 }
 
-Points2d SketchRegistration::jointPoints(const Points2d& window) const {
-  Points2d joint = window;
-  if (historyInUse()) {
-    joint.insert(joint.end(), history_.beyond().begin(), history_.beyond().end());
-  }
-  return joint;
-}
-
 RegistrationResult& SketchRegistration::fail(RegistrationStatus status,
                                              const std::string& message) {
   result_.status = status;
@@ -356,7 +348,11 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
   // Walls seen earlier beyond the window join the refinement: they pin the scale and yaw that
   // the window leaves loose (see observation_history.h).
   const bool use_history = historyInUse();
-  const Points2d joint = jointPoints(icp_points);
+  Points2d joint;
+  if (use_history) {
+    joint = icp_points;
+    joint.insert(joint.end(), history_.beyond().begin(), history_.beyond().end());
+  }
   const double narrow_m = 1.5 * config_.icp.min_correspondence_m;
   for (const Input& in : inputs) {
     // Live hypotheses were refined last frame: a narrow capture radius suffices.
@@ -365,11 +361,10 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
     // over the remembered walls: the joint fit is judged by the window's fit at its transform,
     // which the window's own refinement already optimised (on a 190 x 150 m garage ~120 inputs a
     // frame, most of them far off).
-    const bool worth_joint =
-        in.id || (r.usable &&
-                  r.inlier_ratio >= config_.icp.min_inlier_ratio - config_.history_inlier_slack &&
-                  r.fitness_m <= kJointFitnessFactor * config_.fitness_threshold_m);
-    if (use_history && worth_joint) {
+    if (use_history &&
+        (in.id || (r.usable &&
+                   r.inlier_ratio >= config_.icp.min_inlier_ratio - config_.history_inlier_slack &&
+                   r.fitness_m <= kJointFitnessFactor * config_.fitness_threshold_m))) {
       // A live hypothesis continues from its own (joint) transform: refined on the window first,
       // it would slide back to the window's loose optimum, metres off at the remembered walls
       // and beyond the narrow capture radius. A new one starts from its window fit, with the
@@ -396,7 +391,7 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
     }
     HistoryFit hf;
     if (use_history) {
-      hf = icp_->historyFit(r.T_world_sketch, history_.beyond());
+      hf = historyFit(r.T_world_sketch);
       const double min_history =
           confirmed ? config_.history_kept_min_inlier_ratio : config_.history_min_inlier_ratio;
       if (hf.inside >= config_.history.min_points && !(hf.inlierRatio() >= min_history)) {

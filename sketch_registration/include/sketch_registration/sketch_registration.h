@@ -169,8 +169,6 @@ class SketchRegistration {
   RegistrationResult& fail(RegistrationStatus status, const std::string& message);
   /// The history is used once history.min_points remembered walls lie beyond the window.
   bool historyInUse() const;
-  /// `window_m` and, while the history is in use, the remembered walls beyond it.
-  Points2d jointPoints(const Points2d& window_m) const;
 
   Config config_;
   Points2d sketch_;
