@@ -156,6 +156,13 @@ bool ExplorationMission::step() {
     if (event == traj::ServerEvent::kReplanned) ++log_.replans;
     if (event == traj::ServerEvent::kEmergencyStop) ++log_.emergency_stops;
   }
+  // As minco_traj_node publishes unreachable_goal to prior_guided_planner_node.
+  if (const auto& failure = trajectory_.goalFailure();
+      failure && failure->sequence != reported_goal_failure_) {
+    reported_goal_failure_ = failure->sequence;
+    CpuTimer timer(log_.planner_cpu_s);
+    if (exploration_->reportGoalUnreachable(failure->goal_world_m, t)) ++log_.goals_given_up;
+  }
   const traj::ReferenceSample sample = trajectory_.sample(t);
   control::FlatReference ref;
   ref.stamp_s = t;

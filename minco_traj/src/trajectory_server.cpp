@@ -26,6 +26,8 @@ void TrajectoryServerConfig::validate() const {
                  replan_period_s);
   requireInRange("trajectory_server.max_retry_backoff_s", max_retry_backoff_s, 0.0, 60.0);
   requireInRange("trajectory_server.new_question_distance_m", new_question_distance_m, 0.0, 1e4);
+  requireInRange("trajectory_server.give_up_after_failed_plans", give_up_after_failed_plans, 1,
+                 1000);
   requireInRange("trajectory_server.max_tracking_error_m", max_tracking_error_m, 0.01, 100.0);
   requireInRange("trajectory_server.recenter_distance_m", recenter_distance_m, 0.0,
                  0.5 * std::min(grid.size_x_m, grid.size_y_m));
@@ -128,8 +130,14 @@ ServerEvent TrajectoryServer::setGoal(const Eigen::Vector3d& goal_world_m,
     return ServerEvent::kRejectedInput;
   }
   // A goal elsewhere is a new question: the waits for the failed one do not apply to it.
-  if (failed_goal_ && (goal_world_m - *failed_goal_).norm() > cfg_.new_question_distance_m)
+  if (failed_goal_ && (goal_world_m - *failed_goal_).norm() > cfg_.new_question_distance_m) {
     failed_plans_ = 0;
+    goal_failed_plans_ = 0;
+  }
+  // Another goal gets its own report; a nearby one inherits the failures counted so far (the
+  // same unreachable place, asked again a little to the side).
+  if (goal_failure_ && (goal_world_m - goal_failure_->goal_world_m).norm() > 1e-3)
+    goal_given_up_ = false;
   goal_ = goal_world_m;
   look_at_ = look_at_world_m;
   new_goal_ = true;
@@ -229,9 +237,8 @@ ServerEvent TrajectoryServer::update(double time_s, const VehicleState& state) {
   // time (seen: 80 % of a core in A* behind a door the vehicle could not pass, asked again on
   // every new goal and every update once the stop had run out).
   if (failed_plans_ > 0 && !collision_predicted_) {
-    const double backoff =
-        std::min(cfg_.max_retry_backoff_s,
-                 cfg_.retry_after_failed_plan_s * std::pow(2.0, failed_plans_ - 1));
+    const double backoff = std::min(cfg_.max_retry_backoff_s, cfg_.retry_after_failed_plan_s *
+                                                                  std::pow(2.0, failed_plans_ - 1));
     if (time_s - last_replan_s_ < backoff - 1e-9) return ServerEvent::kNone;
   }
   return replan(time_s, state, reason);
@@ -276,6 +283,24 @@ ServerEvent TrajectoryServer::replan(double time_s, const VehicleState& state,
   ++replans_;
   failed_plans_ = result.ok() ? 0 : failed_plans_ + 1;
   if (!result.ok()) failed_goal_ = *goal_;
+  // The vehicle's own predicament (no escape from its start) and malformed requests say nothing
+  // about the goal.
+  if (result.ok())
+    goal_failed_plans_ = 0;
+  else if (result.status != PlanStatus::kStartInCollision &&
+           result.status != PlanStatus::kBadRequest)
+    ++goal_failed_plans_;
+  if (goal_failed_plans_ >= cfg_.give_up_after_failed_plans && !goal_given_up_) {
+    goal_given_up_ = true;
+    GoalFailure f;
+    f.sequence = goal_failure_ ? goal_failure_->sequence + 1 : 1;
+    f.goal_world_m = *goal_;
+    f.time_s = time_s;
+    f.failed_plans = goal_failed_plans_;
+    f.status = result.status;
+    f.message = std::string(toString(result.status)) + ": " + result.message;
+    goal_failure_ = std::move(f);
+  }
   if (result.ok()) {
     install(result.trajectory, start_s);
     stopping_ = false;

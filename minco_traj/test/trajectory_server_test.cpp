@@ -226,6 +226,61 @@ TEST(TrajectoryServer, RetriesOfAnUnreachableGoalBackOff) {
   EXPECT_GE(attempts(0.2), 30);
 }
 
+// A goal that fails give_up_after_failed_plans plans in a row is given up, once, for the
+// exploration planner to choose another; a reachable goal never is, and another unreachable
+// goal gets its own report.
+TEST(TrajectoryServer, AGoalThatKeepsFailingIsGivenUpOnce) {
+  TrajectoryServerConfig cfg = smallConfig();
+  cfg.planner.astar.max_expansions = 20000;
+  cfg.give_up_after_failed_plans = 3;
+  TrajectoryServer server(cfg);
+  encloseFourZeroOne(server.mutableGrid());
+  server.setGoal({0, 0, 1}, std::nullopt, 0.0);
+  double t = 0.0;
+  for (; t < 3.0; t += 0.01) server.update(t, fromReference(server.sample(t)));
+  EXPECT_FALSE(server.goalFailure()) << "a reachable goal is not given up";
+
+  server.setGoal({4, 0, 1}, std::nullopt, t);
+  std::vector<double> failures_at;
+  uint64_t seen = 0;
+  const double asked_s = t;
+  for (; t < asked_s + 10.0; t += 0.01) {
+    server.update(t, fromReference(server.sample(t)));
+    if (server.goalFailure() && server.goalFailure()->sequence != seen) {
+      seen = server.goalFailure()->sequence;
+      failures_at.push_back(t);
+    }
+  }
+  ASSERT_EQ(failures_at.size(), 1u) << "reported once, though the server keeps retrying";
+  const GoalFailure& f = *server.goalFailure();
+  EXPECT_EQ(f.sequence, 1u);
+  EXPECT_TRUE(f.goal_world_m.isApprox(Eigen::Vector3d(4, 0, 1)));
+  EXPECT_EQ(f.failed_plans, 3);
+  EXPECT_EQ(f.status, PlanStatus::kGoalUnreachable) << f.message;
+  EXPECT_FALSE(f.message.empty());
+  // Three attempts with the backoff (0, 0.2, 0.6 s) instead of the planner's 10 s watchdog.
+  EXPECT_LT(failures_at.front() - asked_s, 1.5);
+  // The same goal asked again (a planner republishing its target) is not a new report.
+  server.setGoal({4, 0, 1}, std::nullopt, t);
+  for (const double t0 = t; t < t0 + 3.0; t += 0.01)
+    server.update(t, fromReference(server.sample(t)));
+  EXPECT_EQ(server.goalFailure()->sequence, 1u);
+  // Another goal in the same enclosure: its own report, at its first failure (it is within
+  // new_question_distance_m of the failed one, the same unreachable place asked again).
+  server.setGoal({4, 0.5, 1}, std::nullopt, t);
+  const int plans_before = server.replanCount();
+  for (const double t0 = t; t < t0 + 5.0 && server.goalFailure()->sequence == 1u; t += 0.01)
+    server.update(t, fromReference(server.sample(t)));
+  EXPECT_EQ(server.goalFailure()->sequence, 2u);
+  EXPECT_EQ(server.replanCount() - plans_before, 1);
+  EXPECT_TRUE(server.goalFailure()->goal_world_m.isApprox(Eigen::Vector3d(4, 0.5, 1)));
+  // A reachable goal elsewhere: planned, and nothing more is given up.
+  server.setGoal({-3, 2, 1}, std::nullopt, t);
+  for (const double t0 = t; t < t0 + 3.0; t += 0.01)
+    server.update(t, fromReference(server.sample(t)));
+  EXPECT_EQ(server.goalFailure()->sequence, 2u);
+}
+
 TEST(TrajectoryServer, AnEnclosedGoalKeepsTheClearCourseAndBrakesOnlyWhenItIsThreatened) {
   TrajectoryServer server(smallConfig());
   encloseFourZeroOne(server.mutableGrid());
@@ -415,6 +470,14 @@ TEST(TrajectoryServer, ConfigValidationNamesTheKey) {
   cfg = TrajectoryServerConfig();
   cfg.retry_after_failed_plan_s = -1.0;
   EXPECT_THROW(cfg.validate(), ConfigError);
+  cfg = TrajectoryServerConfig();
+  cfg.give_up_after_failed_plans = 0;
+  try {
+    cfg.validate();
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("give_up_after_failed_plans"), std::string::npos);
+  }
 }
 
 }  // namespace

@@ -138,8 +138,27 @@ void ExplorationManager::refreshMapProducts() {
   map_dirty_ = false;
 }
 
+bool ExplorationManager::reportGoalUnreachable(const Eigen::Vector3d& goal_world_m, double time_s) {
+  // The goal travels as float64 through ROS and back unchanged; the tolerance only absorbs a
+  // conversion, it does not match a neighbouring goal.
+  constexpr double kSameGoal_m = 1e-3;
+  if (!goal_world_m.allFinite() || !std::isfinite(time_s) || !target_.has_goal ||
+      !target_.goal_viewpoint_id || (goal_world_m - target_.goal_world_m).norm() > kSameGoal_m)
+    return false;
+  const int id = *target_.goal_viewpoint_id;
+  set_aside_until_s_[id] = time_s + config_.unreachable_retry_s;
+  if (progress_ && progress_->viewpoint_id == id) progress_.reset();
+  goal_refused_ = true;
+  ++stats_.goals_refused;
+  std::ostringstream os;
+  os << "the local planner found no way to the goal (" << goal_world_m.x() << ", "
+     << goal_world_m.y() << ", " << goal_world_m.z() << "): viewpoint " << id << " set aside";
+  pending_message_ = os.str();
+  return true;
+}
+
 bool ExplorationManager::replanDue(double time_s, const RobotPose& robot) const {
-  if (!last_plan_time_s_ || hypotheses_changed_) return true;
+  if (!last_plan_time_s_ || hypotheses_changed_ || goal_refused_) return true;
   if (time_s - *last_plan_time_s_ >= config_.replan_period_s) return true;
   if (!target_.has_goal || !target_.goal_viewpoint_id) return true;
   if ((robot.position_world_m - target_.viewpoint_world_m).norm() <= config_.target_reached_m)
@@ -229,6 +248,7 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   last_plan_ = planner_.plan(in);
   last_plan_time_s_ = time_s;
   hypotheses_changed_ = false;
+  goal_refused_ = false;
 
   const PlanningResult& plan = *last_plan_;
   target_.replanned = true;
@@ -243,8 +263,8 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
       if (set_aside > 0) {
         target_.state = ExplorationState::kStuck;
         plan_message_ = std::to_string(set_aside) +
-                        " viewpoint(s) remain, all set aside: the robot made no progress "
-                        "toward them";
+                        " viewpoint(s) remain, all set aside as unreachable (no progress "
+                        "toward them, or the local planner found no way)";
         return;
       }
       target_.state = ExplorationState::kFinished;
@@ -293,7 +313,7 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   if (target_.goal_world_m != target_.viewpoint_world_m) os << ", staged goal on the way";
   if (!plan.tour.unreachable_viewpoints.empty())
     os << ", " << plan.tour.unreachable_viewpoints.size() << " unreachable";
-  if (set_aside > 0) os << ", " << set_aside << " set aside (no progress)";
+  if (set_aside > 0) os << ", " << set_aside << " set aside (unreachable)";
   plan_message_ = os.str();
   const double length = robot_len_[first];
   if (!progress_ || progress_->viewpoint_id != goal.id) {

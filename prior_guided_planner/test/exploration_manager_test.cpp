@@ -154,6 +154,45 @@ TEST(ExplorationManager, TargetsWithoutProgressAreSetAsideAndComeBack) {
   }
 }
 
+// The local planner gave up on the goal: its viewpoint is set aside at once (not after the
+// progress watchdog) and another target is planned on the next update; a report about a goal
+// that is no longer current, or a non-finite one, changes nothing.
+TEST(ExplorationManager, AGoalTheLocalPlannerGaveUpOnIsSetAsideAtOnce) {
+  const Scene room = corridorRoom();
+  ExplorationManagerConfig c;
+  c.target_progress_timeout_s = 10.0;
+  c.unreachable_retry_s = 100.0;
+  ExplorationManager m(c, std::nullopt);
+  const Eigen::Vector3d start(2.0, 0.1, 1.6);
+  scanFrom(m, room, start);
+  ASSERT_EQ(m.update(0.0, at(start)).state, ExplorationState::kExploring);
+  const int first = *m.target().goal_viewpoint_id;
+  const Eigen::Vector3d goal = m.target().goal_world_m;
+
+  EXPECT_FALSE(m.reportGoalUnreachable(goal + Eigen::Vector3d(0.5, 0, 0), 0.5));
+  EXPECT_FALSE(m.reportGoalUnreachable(
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()), 0.5));
+  m.update(0.5, at(start));
+  EXPECT_EQ(*m.target().goal_viewpoint_id, first);
+  EXPECT_EQ(m.inputStats().goals_refused, 0u);
+
+  ASSERT_TRUE(m.reportGoalUnreachable(goal, 0.6));
+  const ExplorationTarget& t = m.update(0.7, at(start));
+  EXPECT_TRUE(t.replanned);
+  ASSERT_EQ(t.state, ExplorationState::kExploring) << t.message;
+  EXPECT_NE(*t.goal_viewpoint_id, first);
+  EXPECT_NE(t.message.find("set aside"), std::string::npos) << t.message;
+  EXPECT_NE(t.message.find("no way to the goal"), std::string::npos) << t.message;
+  EXPECT_EQ(m.inputStats().goals_refused, 1u);
+  // The refused viewpoint stays aside until unreachable_retry_s has passed.
+  for (double time = 1.0; time < 50.0; time += 1.0) {
+    m.update(time, at(start));
+    if (m.target().goal_viewpoint_id) {
+      EXPECT_NE(*m.target().goal_viewpoint_id, first);
+    }
+  }
+}
+
 // A viewpoint beyond max_goal_distance_m reaches the local planner in stages along its path.
 TEST(ExplorationManager, AFarViewpointIsHandedOnInStages) {
   const Scene room = corridorRoom();

@@ -6,6 +6,7 @@
 // scan_world is avoided with clearance, and a NaN target is refused while the node keeps going.
 #include <explore_from_sketch/PolynomialTrajectory.h>
 #include <explore_from_sketch/PositionCommand.h>
+#include <geometry_msgs/PointStamped.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
@@ -163,6 +164,33 @@ TEST_F(MincoTrajNodeTest, FliesToTargetsAroundAWallAndRefusesNan) {
   fly(0.5);
   EXPECT_GT(cmds_.size(), before + 20);
   EXPECT_LT((p_ - goal).norm(), 0.05);
+  EXPECT_TRUE(efs::rostest::nodeAlive("/minco_traj"));
+
+  // A goal under a floor that spans the whole window: no plan reaches it, and after
+  // give_up_after_failed_plans attempts the node says so once on unreachable_goal (for the
+  // exploration planner), and keeps commanding the hold.
+  std::vector<geometry_msgs::PointStamped> given_up;
+  ros::Subscriber unreachable_sub = nh_.subscribe<geometry_msgs::PointStamped>(
+      "unreachable_goal", 5,
+      [&given_up](const geometry_msgs::PointStamped::ConstPtr& m) { given_up.push_back(*m); });
+  std::vector<Eigen::Vector3f> floor;
+  for (float x = -10.0f; x <= 20.0f; x += 0.1f)
+    for (float y = -15.0f; y <= 15.0f; y += 0.1f) floor.emplace_back(x, y, 0.0f);
+  h.stamp = ros::Time::now();
+  scan_pub_.publish(efs::ros_common::toPointCloud2(floor, h));
+  fly(1.0);
+  const Eigen::Vector3d below(8.0, 0.0, -1.5);
+  sendTarget(below.x(), below.y(), below.z());
+  const size_t cmds_before = cmds_.size();
+  fly(6.0);
+  ASSERT_EQ(given_up.size(), 1u) << "no (or more than one) unreachable_goal for one goal";
+  EXPECT_EQ(given_up[0].header.frame_id, "world");
+  EXPECT_NEAR(given_up[0].point.x, below.x(), 1e-9);
+  EXPECT_NEAR(given_up[0].point.y, below.y(), 1e-9);
+  EXPECT_NEAR(given_up[0].point.z, below.z(), 1e-9);
+  EXPECT_TRUE(logs.waitFor("/minco_traj", "giving up on the goal", 3.0));
+  EXPECT_GT(cmds_.size(), cmds_before + 300);
+  EXPECT_GT(p_.z(), 0.5) << "went through the floor";
   EXPECT_TRUE(efs::rostest::nodeAlive("/minco_traj"));
 }
 

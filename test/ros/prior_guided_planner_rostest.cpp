@@ -9,6 +9,7 @@
 #include <explore_from_sketch/ExplorationStatus.h>
 #include <explore_from_sketch/Guidepoints.h>
 #include <explore_from_sketch/RegistrationHypotheses.h>
+#include <geometry_msgs/PointStamped.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
@@ -247,6 +248,43 @@ TEST_F(PlannerNodeTest, BadInputIsReportedAndTheNodeKeepsPlanning) {
   EXPECT_GT(target_count_, targets);
   EXPECT_EQ(last_status_.state, ExplorationStatus::STATE_EXPLORING_PRIOR_FREE);
   EXPECT_FALSE(last_status_.has_active_hypothesis);
+}
+
+// minco_traj gave up on the current goal (unreachable_goal): the planner sets its viewpoint
+// aside and sends another target; an unreachable goal in another frame, or a NaN one, is
+// refused and said.
+TEST_F(PlannerNodeTest, AGoalTheLocalPlannerGaveUpOnIsReplacedAtOnce) {
+  RosoutCollector logs(nh_);
+  ros::Publisher unreachable_pub =
+      nh_.advertise<geometry_msgs::PointStamped>(ns() + "/unreachable_goal", 5);
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(10.0);
+  while (unreachable_pub.getNumSubscribers() == 0 && ros::WallTime::now() < end)
+    ros::WallDuration(0.05).sleep();
+  ASSERT_GT(unreachable_pub.getNumSubscribers(), 0u);
+  hover(2.0);
+  ASSERT_GT(target_count_, 0);
+  const geometry_msgs::Point refused = last_target_.pose.position;
+
+  geometry_msgs::PointStamped m;
+  m.header.stamp = ros::Time::now();
+  m.header.frame_id = "camera_init";
+  m.point = refused;
+  unreachable_pub.publish(m);
+  EXPECT_TRUE(logs.waitFor(kNode, "unreachable goal refused: frame 'camera_init'", 3.0));
+  m.header.frame_id = "world";
+  m.point.x = std::numeric_limits<double>::quiet_NaN();
+  unreachable_pub.publish(m);
+  EXPECT_TRUE(logs.waitFor(kNode, "unreachable goal refused: not finite", 3.0));
+
+  m.point = refused;
+  unreachable_pub.publish(m);
+  EXPECT_TRUE(logs.waitFor(kNode, "gave up on", 3.0));
+  hover(1.5);
+  spinFor(0.3);
+  const auto& p = last_target_.pose.position;
+  EXPECT_GT(std::hypot(p.x - refused.x, p.y - refused.y, p.z - refused.z), 1e-3)
+      << "still sent the goal minco_traj gave up on";
+  EXPECT_TRUE(efs::rostest::nodeAlive(kNode));
 }
 
 // The corridor room drawn as a sketch (0.1 m per pixel, walls 2 px) and pre-processed; the

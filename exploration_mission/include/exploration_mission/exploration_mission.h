@@ -55,6 +55,8 @@ struct MissionLog {
   std::vector<TrajectoryRecord> trajectory;
   std::vector<HypothesisRecord> registrations;
   size_t replans = 0, emergency_stops = 0, planner_cycles = 0;
+  /// Goals the local planner gave up on while they were the planner's current goal.
+  size_t goals_given_up = 0;
   /// Distance between the reference and the true position, over the flight (RMS set at the end).
   double max_tracking_error_m = 0.0, rms_tracking_error_m = 0.0;
   /// Closest the vehicle's centre came to the world's surface (sampled at 10 Hz, capped at 2 m;
@@ -142,6 +144,7 @@ class ExplorationMission {
   size_t tracking_samples_ = 0;
   double next_clearance_check_s_ = 0.0;
   std::optional<Eigen::Vector3d> current_goal_;
+  uint64_t reported_goal_failure_ = 0;  ///< sequence of the last GoalFailure passed on
   Eigen::Vector3d hold_position_m_ = Eigen::Vector3d::Zero();
   double hold_yaw_rad_ = 0.0;
   std::string planner_state_ = "waiting";

@@ -17,11 +17,15 @@
 //     brake from a curve can leave the checked path (seen: a cave wall touched after an
 //     optimiser failure on a new goal). Otherwise (a predicted collision, lost tracking) it
 //     switches to the planner's emergency stop (braking at the acceleration limit) once; while
-//     stopping, later failures keep the same stop so the reference stays smooth.
+//     stopping, later failures keep the same stop so the reference stays smooth;
+//   * a goal that failed give_up_after_failed_plans consecutive plans is given up: goalFailure()
+//     says so (once per goal), for the exploration planner to choose another target. The server
+//     itself keeps the goal and keeps retrying (with backoff) until it gets a new one.
 // Time is injected; nothing here reads a clock.
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -52,6 +56,12 @@ struct TrajectoryServerConfig {
   double max_retry_backoff_s = 2.0;
   /// A new goal farther than this from the last one that failed starts without waiting.
   double new_question_distance_m = 2.0;
+  /// After this many consecutive failed plans toward one goal (a vehicle stuck in a wall, or a
+  /// request with a non-finite input, does not count), the goal is given up (goalFailure()).
+  /// The exploration planner's own watchdog (no progress in 10 s) was the only other way out:
+  /// seen in the garage, 30 s hovering 2.4 m from three viewpoints the global search reached
+  /// through a gap the vehicle's clearance did not pass.
+  int give_up_after_failed_plans = 3;
   /// The grid window follows the sensor in horizontal steps of this size (vertical: a quarter
   /// of the window height); recentring costs a pass over the window.
   double recenter_distance_m = 2.0;
@@ -73,6 +83,16 @@ struct VehicleState {
   Eigen::Vector3d v_world_mps = Eigen::Vector3d::Zero();
   Eigen::Vector3d a_world_mps2 = Eigen::Vector3d::Zero();
   double yaw_rad = 0.0;
+};
+
+/// A goal the server gave up on (give_up_after_failed_plans).
+struct GoalFailure {
+  uint64_t sequence = 0;  ///< 1, 2, ... for each goal given up: a consumer reports each once
+  Eigen::Vector3d goal_world_m = Eigen::Vector3d::Zero();
+  double time_s = 0.0;
+  int failed_plans = 0;
+  PlanStatus status = PlanStatus::kGoalUnreachable;  ///< of the last failed plan
+  std::string message;                               ///< the last failed plan's reason
 };
 
 class TrajectoryServer {
@@ -121,6 +141,9 @@ class TrajectoryServer {
   bool stopping() const { return stopping_; }
   const std::string& lastMessage() const { return message_; }
   int replanCount() const { return replans_; }
+  /// The last goal given up (give_up_after_failed_plans); std::nullopt before the first one.
+  /// A new sequence number means a new failure; the goal may still be the current one.
+  const std::optional<GoalFailure>& goalFailure() const { return goal_failure_; }
 
  private:
   /// Plans from the reference (or `state`) at time_s + plan_from_future_s.
@@ -145,8 +168,11 @@ class TrajectoryServer {
   double last_replan_s_ = 0.0;
   std::optional<double> last_update_s_;
   int replans_ = 0;
-  int failed_plans_ = 0;  ///< consecutive
+  int failed_plans_ = 0;                        ///< consecutive
   std::optional<Eigen::Vector3d> failed_goal_;  ///< the goal of the last failed plan
+  int goal_failed_plans_ = 0;                   ///< consecutive, not counting a start in collision
+  bool goal_given_up_ = false;                  ///< the current goal was reported in goal_failure_
+  std::optional<GoalFailure> goal_failure_;
   std::string message_;
 };
 

@@ -32,6 +32,7 @@ MincoTrajNodeConfig loadMincoTrajNodeConfig(const ros::NodeHandle& private_nh) {
   p.get("retry_after_failed_plan_s", s.retry_after_failed_plan_s);
   p.get("max_retry_backoff_s", s.max_retry_backoff_s);
   p.get("new_question_distance_m", s.new_question_distance_m);
+  p.get("give_up_after_failed_plans", s.give_up_after_failed_plans);
   p.get("recenter_distance_m", s.recenter_distance_m);
   p.get("grid/resolution_m", s.grid.resolution_m);
   p.get("grid/size_x_m", s.grid.size_x_m);
@@ -75,6 +76,7 @@ MincoTrajNode::MincoTrajNode(ros::NodeHandle nh, const MincoTrajNodeConfig& conf
   traj_pub_ = nh.advertise<explore_from_sketch::PolynomialTrajectory>(topics::kTrajectory, 5, true);
   cmd_pub_ = nh.advertise<explore_from_sketch::PositionCommand>(topics::kPositionCommand, 10);
   marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>(topics::kMarkers, 2, true);
+  unreachable_pub_ = nh.advertise<geometry_msgs::PointStamped>(topics::kUnreachableGoal, 5);
   scan_sub_ = nh.subscribe(topics::kScanWorld, 5, &MincoTrajNode::onScan, this);
   ros::SubscribeOptions odom_options = ros::SubscribeOptions::create<nav_msgs::Odometry>(
       topics::kOdom, 50, [this](const nav_msgs::Odometry::ConstPtr& m) { onOdom(m); },
@@ -212,6 +214,7 @@ void MincoTrajNode::onPlanTimer(const ros::TimerEvent&) {
       goal_reached_ = true;
       ROS_INFO("minco_traj: %s", server_.lastMessage().c_str());
     }
+    publishGoalFailure(now);
   } else if (state && !server_.holdingAlongPath() && server_.current()) {
     // Odometry lost in flight: the reference stops on the checked path instead of running on.
     server_.holdAlongPath(t);
@@ -241,6 +244,22 @@ void MincoTrajNode::onCommandTimer(const ros::TimerEvent&) {
                        : source->goal_reached ? Cmd::TRAJECTORY_STATUS_COMPLETED
                                               : Cmd::TRAJECTORY_STATUS_READY;
   cmd_pub_.publish(toPositionCommand(*s, source->trajectory_id, flag, h));
+}
+
+void MincoTrajNode::publishGoalFailure(const ros::Time& now) {
+  const std::optional<GoalFailure>& f = server_.goalFailure();
+  if (!f || f->sequence == published_goal_failure_) return;
+  published_goal_failure_ = f->sequence;
+  ROS_WARN("minco_traj: giving up on the goal (%.2f, %.2f, %.2f) after %d failed plans: %s",
+           f->goal_world_m.x(), f->goal_world_m.y(), f->goal_world_m.z(), f->failed_plans,
+           f->message.c_str());
+  geometry_msgs::PointStamped m;
+  m.header.stamp = now;
+  m.header.frame_id = config_.world_frame;
+  m.point.x = f->goal_world_m.x();
+  m.point.y = f->goal_world_m.y();
+  m.point.z = f->goal_world_m.z();
+  unreachable_pub_.publish(m);
 }
 
 void MincoTrajNode::publishTrajectory(const ros::Time& now, ServerEvent event) {

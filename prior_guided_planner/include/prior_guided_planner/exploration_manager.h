@@ -109,6 +109,7 @@ struct ExplorationInputStats {
   size_t points_dropped_nonfinite = 0;
   size_t updates_rejected = 0;  ///< time going backwards or non-finite time / pose
   size_t hypotheses_rejected = 0;
+  size_t goals_refused = 0;  ///< goals the local planner gave up on (reportGoalUnreachable)
 };
 
 class ExplorationManager {
@@ -126,6 +127,13 @@ class ExplorationManager {
   /// Latest registration hypotheses (planner types; the caller converts). Replaces the previous
   /// set. Unusable ones (NaN, non-positive scale, bad confidence) are kept out and counted.
   void setHypotheses(std::vector<Hypothesis> hypotheses);
+
+  /// The local planner gave up on `goal_world_m` (minco_traj: give_up_after_failed_plans). When
+  /// that is the current goal, its viewpoint is set aside for unreachable_retry_s at once (the
+  /// no-progress watchdog would wait target_progress_timeout_s) and the next update() replans.
+  /// Returns false (and does nothing) for a goal that is no longer the current one or a
+  /// non-finite one.
+  bool reportGoalUnreachable(const Eigen::Vector3d& goal_world_m, double time_s);
 
   /// Replans when due and returns the current target. time_s must not go backwards (else the
   /// update is refused with a message, no crash). Terminates (kFinished) when no viewpoint
@@ -175,6 +183,7 @@ class ExplorationManager {
   std::vector<Hypothesis> hypotheses_;
   std::vector<Hypothesis> plan_hypotheses_;  ///< the set the last plan used
   bool hypotheses_changed_ = false;
+  bool goal_refused_ = false;  ///< the local planner gave up on the current goal
   bool map_dirty_ = false;
   std::vector<PlanViewpoint> viewpoints_;
   std::vector<int> viewpoint_cluster_;  ///< cluster id per entry of viewpoints_

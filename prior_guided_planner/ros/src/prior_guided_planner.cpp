@@ -154,6 +154,8 @@ PriorGuidedPlannerNode::PriorGuidedPlannerNode(ros::NodeHandle nh,
   odom_sub_ = nh.subscribe(topics::kOdom, 50, &PriorGuidedPlannerNode::onOdometry, this);
   scan_sub_ = nh.subscribe(topics::kScanWorld, 5, &PriorGuidedPlannerNode::onScan, this);
   hyp_sub_ = nh.subscribe(topics::kHypotheses, 5, &PriorGuidedPlannerNode::onHypotheses, this);
+  unreachable_sub_ =
+      nh.subscribe(topics::kUnreachableGoal, 5, &PriorGuidedPlannerNode::onUnreachableGoal, this);
   save_map_srv_ = nh.advertiseService(topics::kSaveMap, &PriorGuidedPlannerNode::onSaveMap, this);
   timer_ = nh.createTimer(ros::Duration(1.0 / config_.plan_rate_hz),
                           &PriorGuidedPlannerNode::onTimer, this);
@@ -245,6 +247,25 @@ void PriorGuidedPlannerNode::onHypotheses(
     hs.push_back(h);
   }
   manager_->setHypotheses(std::move(hs));
+}
+
+void PriorGuidedPlannerNode::onUnreachableGoal(const geometry_msgs::PointStamped::ConstPtr& msg) {
+  if (!msg->header.frame_id.empty() && msg->header.frame_id != config_.world_frame) {
+    reject("unreachable goal refused: frame '" + msg->header.frame_id +
+           "' is not the world frame '" + config_.world_frame + "'");
+    return;
+  }
+  const Eigen::Vector3d goal(msg->point.x, msg->point.y, msg->point.z);
+  if (!goal.allFinite()) {
+    reject("unreachable goal refused: not finite");
+    return;
+  }
+  // An older goal than the current one says nothing about the current one (reported false).
+  if (manager_->reportGoalUnreachable(goal, ros::Time::now().toSec()))
+    ROS_INFO(
+        "prior_guided_planner: the local planner gave up on (%.2f, %.2f, %.2f): its "
+        "viewpoint is set aside",
+        goal.x(), goal.y(), goal.z());
 }
 
 void PriorGuidedPlannerNode::onTimer(const ros::TimerEvent&) {

@@ -7,6 +7,7 @@
 // commanding the last valid reference.
 #pragma once
 
+#include <geometry_msgs/PointStamped.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/callback_queue.h>
@@ -54,6 +55,8 @@ class MincoTrajNode {
   void onCommandTimer(const ros::TimerEvent&);
   void refreshCommandSource();
   void publishTrajectory(const ros::Time& now, ServerEvent event);
+  /// Publishes a goal the server gave up on, once (GoalFailure::sequence).
+  void publishGoalFailure(const ros::Time& now);
   /// The latest odometry and its stamp (written by the odometry thread).
   std::pair<std::optional<VehicleState>, ros::Time> latestState() const;
 
@@ -88,7 +91,8 @@ class MincoTrajNode {
   uint64_t command_source_revision_ = 0;
 
   ros::Subscriber scan_sub_, odom_sub_, target_sub_;
-  ros::Publisher traj_pub_, cmd_pub_, marker_pub_;
+  ros::Publisher traj_pub_, cmd_pub_, marker_pub_, unreachable_pub_;
+  uint64_t published_goal_failure_ = 0;
   ros::Timer plan_timer_, command_timer_;
 };
 

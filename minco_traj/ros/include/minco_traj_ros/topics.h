@@ -13,5 +13,7 @@ constexpr const char* kTarget = "exploration_target";  // geometry_msgs/PoseStam
 constexpr const char* kTrajectory = "trajectory";         // PolynomialTrajectory
 constexpr const char* kPositionCommand = "position_cmd";  // PositionCommand
 constexpr const char* kMarkers = "traj_markers";          // visualization_msgs/MarkerArray
+// geometry_msgs/PointStamped: a goal given up (give_up_after_failed_plans), once per goal
+constexpr const char* kUnreachableGoal = "unreachable_goal";
 
 }  // namespace efs::traj::topics

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <explore_from_sketch/RegistrationHypotheses.h>
+#include <geometry_msgs/PointStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -59,6 +60,7 @@ class PriorGuidedPlannerNode {
   void onOdometry(const nav_msgs::Odometry::ConstPtr& msg);
   void onScan(const sensor_msgs::PointCloud2::ConstPtr& msg);
   void onHypotheses(const explore_from_sketch::RegistrationHypotheses::ConstPtr& msg);
+  void onUnreachableGoal(const geometry_msgs::PointStamped::ConstPtr& msg);
   void onTimer(const ros::TimerEvent&);
   void publishStatus(const ros::Time& now);
   void publishGuidepoints(const ros::Time& now);
@@ -79,7 +81,7 @@ class PriorGuidedPlannerNode {
   std::string last_reject_;
   ros::WallTime last_reject_time_;
 
-  ros::Subscriber odom_sub_, scan_sub_, hyp_sub_;
+  ros::Subscriber odom_sub_, scan_sub_, hyp_sub_, unreachable_sub_;
   ros::Publisher target_pub_, look_at_pub_, tour_pub_, status_pub_, guidepoints_pub_, markers_pub_;
   ros::ServiceServer save_map_srv_;
   ros::Timer timer_;

@@ -9,6 +9,8 @@ namespace efs::planner::topics {
 constexpr const char* kScanWorld = "scan_world";   // sensor_msgs/PointCloud2, world frame
 constexpr const char* kOdom = "odom";              // nav_msgs/Odometry, world frame
 constexpr const char* kHypotheses = "hypotheses";  // RegistrationHypotheses
+// geometry_msgs/PointStamped from minco_traj: the local planner gave up on this goal
+constexpr const char* kUnreachableGoal = "unreachable_goal";
 // Outputs
 constexpr const char* kTarget = "exploration_target";   // geometry_msgs/PoseStamped (goal + yaw)
 constexpr const char* kLookAt = "exploration_look_at";  // geometry_msgs/PointStamped
