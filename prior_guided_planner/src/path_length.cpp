@@ -20,6 +20,7 @@ void PathSearchConfig::validate() const {
   requireInRange("path.narrow_cost_factor", narrow_cost_factor, 1.0, 100.0);
   requireInRange("path.max_expansions", max_expansions, 1, 100000000);
   requireInRange("path.endpoint_tolerance_m", endpoint_tolerance_m, 0.0, 10.0);
+  requireInRange("path.shorten_lookahead_m", shorten_lookahead_m, search_resolution_m, 1e4);
 }
 
 namespace {
@@ -381,17 +382,24 @@ PathSearch::Joins PathSearch::attach(const Eigen::Vector3d& p) {
   return out;
 }
 
-// Greedy string pulling: from each kept point jump to the farthest point still reachable by a
-// safe straight segment. The end points keep the relaxed (radius 0) joining rule.
+// Greedy string pulling: from each kept point jump to the farthest point within
+// shorten_lookahead_m along the path still reachable by a safe straight segment. The end points
+// keep the relaxed (radius 0) joining rule.
 std::vector<Eigen::Vector3d> PathSearch::shorten(std::vector<Eigen::Vector3d> path) const {
   if (!config_.shorten || path.size() <= 2) return path;
   const double r = config_.vehicle_radius_m;
   const bool unk = config_.unknown_is_traversable;
+  // along[k]: length of the lattice path up to node k.
+  std::vector<double> along(path.size(), 0.0);
+  for (size_t k = 1; k < path.size(); ++k) along[k] = along[k - 1] + (path[k] - path[k - 1]).norm();
   std::vector<Eigen::Vector3d> out{path.front()};
   size_t i = 0;
   while (i + 1 < path.size()) {
     size_t j = i + 1;
-    for (size_t t = path.size() - 1; t > i + 1; --t) {
+    const size_t last = static_cast<size_t>(
+        std::upper_bound(along.begin(), along.end(), along[i] + config_.shorten_lookahead_m) -
+        along.begin() - 1);
+    for (size_t t = std::max(last, i + 1); t > i + 1; --t) {
       const bool ends = (i == 0 || t == path.size() - 1);
       if (segmentSafe(path[i], path[t], ends ? 0.0 : r, ends ? true : unk)) {
         j = t;

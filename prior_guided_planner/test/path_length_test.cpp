@@ -64,6 +64,41 @@ TEST(PathLength, LongerAroundAWall) {
   EXPECT_EQ(w.back(), b);
 }
 
+// Around the inner corner of a 60 m L-shaped corridor: string pulling with a bounded
+// look-ahead (shorten_lookahead_m) still gives nearly the shortest way, in legs no longer than
+// the look-ahead, each safe for the vehicle.
+TEST(PathLength, LongPathsAreShortenedWithinTheLookAhead) {
+  Scene s;
+  s.room = {Eigen::Vector3d(-1, -1, -0.05), Eigen::Vector3d(61, 21, 3)};
+  s.solids.push_back({Eigen::Vector3d(2, 2, -0.1), Eigen::Vector3d(61.1, 21.1, 3.1)});
+  OccupancyMap occ;
+  for (double x = 0.5; x < 60.0; x += 4.0)
+    occ.insertScan({x, 0.5, 1.5}, s.scanSphere({x, 0.5, 1.5}, 1.0));
+  for (double y = 0.5; y < 20.0; y += 4.0)
+    occ.insertScan({0.5, y, 1.5}, s.scanSphere({0.5, y, 1.5}, 1.0));
+  PathSearchConfig c;
+  c.shorten_lookahead_m = 20.0;
+  PathSearch ps(occ, c);
+  const Eigen::Vector3d a(58, 0.5, 1.5), b(0.5, 18, 1.5);
+  const auto r = ps.search(a, b);
+  ASSERT_TRUE(r.length_m.has_value());
+  EXPECT_FALSE(r.straight);
+  const Eigen::Vector3d corner(2.0, 2.0, 1.5);
+  const double lower = (corner - a).norm() + (b - corner).norm();
+  EXPECT_GT(*r.length_m, lower);
+  EXPECT_LT(*r.length_m, 1.03 * lower);
+  const auto& w = r.waypoints_world_m;
+  ASSERT_GE(w.size(), 3u);
+  for (size_t i = 0; i + 1 < w.size(); ++i)
+    EXPECT_LE((w[i + 1] - w[i]).norm(), c.shorten_lookahead_m + 1e-9) << "leg " << i;
+  for (size_t i = 1; i + 2 < w.size(); ++i)
+    EXPECT_TRUE(occ.segmentSafe(w[i], w[i + 1], c.vehicle_radius_m, false)) << "leg " << i;
+  // The same lengths from one source (the planner's per-plan query).
+  const auto lengths = ps.lengthsFrom(a, {b});
+  ASSERT_TRUE(lengths[0].has_value());
+  EXPECT_NEAR(*lengths[0], *r.length_m, 1e-9);
+}
+
 TEST(PathLength, UnreachableIntoAClosedBox) {
   Scene outside;
   outside.room = {Eigen::Vector3d(-8, -8, -0.05), Eigen::Vector3d(8, 8, 5)};
@@ -479,6 +514,14 @@ TEST(PathLength, ConfigErrorsNameTheKey) {
     FAIL();
   } catch (const efs::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("path.search_resolution_m"), std::string::npos);
+  }
+  c = PathSearchConfig();
+  c.shorten_lookahead_m = 0.0;
+  try {
+    PathSearch ps(occ, c);
+    FAIL();
+  } catch (const efs::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("path.shorten_lookahead_m"), std::string::npos);
   }
 }
 
