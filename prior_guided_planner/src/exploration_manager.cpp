@@ -1,6 +1,7 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include "prior_guided_planner/exploration_manager.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -147,6 +148,7 @@ bool ExplorationManager::reportGoalUnreachable(const Eigen::Vector3d& goal_world
     return false;
   const int id = *target_.goal_viewpoint_id;
   set_aside_until_s_[id] = time_s + config_.unreachable_retry_s;
+  refused_goals_.push_back({goal_world_m, time_s + config_.unreachable_retry_s});
   if (progress_ && progress_->viewpoint_id == id) progress_.reset();
   goal_refused_ = true;
   ++stats_.goals_refused;
@@ -188,6 +190,9 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
 
   for (auto it = set_aside_until_s_.begin(); it != set_aside_until_s_.end();)
     it = it->second <= time_s ? set_aside_until_s_.erase(it) : std::next(it);
+  refused_goals_.erase(std::remove_if(refused_goals_.begin(), refused_goals_.end(),
+                                      [&](const RefusedGoal& r) { return r.until_s <= time_s; }),
+                       refused_goals_.end());
   std::map<int, Eigen::Vector3d> centroid;
   for (const auto& [id, c] : clusters_.clusters()) centroid[id] = c.centroid_world_m;
   std::vector<PlanViewpoint> vps;
@@ -283,16 +288,39 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
     plan_message_ = "the planner returned an empty tour";
     return;
   }
-  for (int i : plan.tour.viewpoints)
-    target_.tour_world_m.push_back(viewpoints_[i].position_world_m);
-  const int first = plan.tour.viewpoints.front();
+  // A goal point the local planner gave up on is not sent again while it is refused: the
+  // look-ahead along the next viewpoint's path can land on the very same point. Then the
+  // viewpoint itself is the goal (when within reach); failing that, the viewpoint is set aside
+  // and the next one of the tour is tried.
+  std::vector<int> tour = plan.tour.viewpoints;
+  std::optional<Eigen::Vector3d> goal_m;
+  while (!tour.empty() && !goal_m) {
+    const PlanViewpoint& v = viewpoints_[tour.front()];
+    const bool near = withinGoalReach(robot.position_world_m, v.position_world_m);
+    const Eigen::Vector3d g = near ? tourGoal(robot.position_world_m, tour)
+                                   : stagedGoal(robot.position_world_m, v.position_world_m);
+    if (!refusedGoal(g)) {
+      goal_m = g;
+    } else if (near && !refusedGoal(v.position_world_m)) {
+      goal_m = v.position_world_m;
+    } else {
+      set_aside_until_s_[v.id] = time_s + config_.unreachable_retry_s;
+      ++set_aside;
+      tour.erase(tour.begin());
+    }
+  }
+  if (!goal_m) {
+    target_.state = ExplorationState::kStuck;
+    plan_message_ = "the local planner gave up on the goal of every viewpoint of the tour";
+    return;
+  }
+  for (int i : tour) target_.tour_world_m.push_back(viewpoints_[i].position_world_m);
+  const int first = tour.front();
   const PlanViewpoint& goal = viewpoints_[first];
   target_.state = ExplorationState::kExploring;
   target_.has_goal = true;
   target_.viewpoint_world_m = goal.position_world_m;
-  target_.goal_world_m = withinGoalReach(robot.position_world_m, goal.position_world_m)
-                             ? tourGoal(robot.position_world_m, plan.tour.viewpoints)
-                             : stagedGoal(robot.position_world_m, goal.position_world_m);
+  target_.goal_world_m = *goal_m;
   goal_distance_at_plan_m_ = (target_.goal_world_m - robot.position_world_m).norm();
   target_.goal_yaw_rad = goal.yaw_rad;
   target_.goal_viewpoint_id = goal.id;
@@ -331,6 +359,12 @@ bool ExplorationManager::checkProgress(double time_s) {
   if (time_s - progress_->since_s < config_.target_progress_timeout_s) return true;
   set_aside_until_s_[progress_->viewpoint_id] = time_s + config_.unreachable_retry_s;
   progress_.reset();
+  return false;
+}
+
+bool ExplorationManager::refusedGoal(const Eigen::Vector3d& goal_world_m) const {
+  for (const RefusedGoal& r : refused_goals_)
+    if ((r.goal_world_m - goal_world_m).norm() <= kRefusedGoalRadius_m) return true;
   return false;
 }
 

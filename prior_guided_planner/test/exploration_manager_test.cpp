@@ -184,11 +184,16 @@ TEST(ExplorationManager, AGoalTheLocalPlannerGaveUpOnIsSetAsideAtOnce) {
   EXPECT_NE(t.message.find("set aside"), std::string::npos) << t.message;
   EXPECT_NE(t.message.find("no way to the goal"), std::string::npos) << t.message;
   EXPECT_EQ(m.inputStats().goals_refused, 1u);
-  // The refused viewpoint stays aside until unreachable_retry_s has passed.
+  // The refused viewpoint stays aside until unreachable_retry_s has passed, and the refused
+  // goal point is not sent again for another viewpoint either (the look-ahead along its path
+  // could land on it).
   for (double time = 1.0; time < 50.0; time += 1.0) {
     m.update(time, at(start));
     if (m.target().goal_viewpoint_id) {
       EXPECT_NE(*m.target().goal_viewpoint_id, first);
+    }
+    if (m.target().has_goal) {
+      EXPECT_GT((m.target().goal_world_m - goal).norm(), 0.5) << "at " << time << " s";
     }
   }
 }

@@ -170,6 +170,8 @@ class ExplorationManager {
   /// viewpoints_), as far as it stays within reach; the first viewpoint when no path is known.
   Eigen::Vector3d tourGoal(const Eigen::Vector3d& from, const std::vector<int>& tour);
   bool withinGoalReach(const Eigen::Vector3d& from, const Eigen::Vector3d& to) const;
+  /// Near a goal the local planner gave up on (reportGoalUnreachable), within its retry time.
+  bool refusedGoal(const Eigen::Vector3d& goal_world_m) const;
 
   ExplorationManagerConfig config_;
   std::optional<GuidepointPrior> prior_;
@@ -193,6 +195,15 @@ class ExplorationManager {
   std::map<int, Eigen::Vector3d> opening_look_at_;  ///< per opening viewpoint id
   /// Viewpoints (and openings) set aside as unreachable, until the time given [s].
   std::map<int, double> set_aside_until_s_;
+  /// Goal points the local planner gave up on, refused until the time given [s]; a goal within
+  /// kRefusedGoalRadius_m of one is not sent (the same unreachable place, up to the robot's
+  /// motion between plans).
+  struct RefusedGoal {
+    Eigen::Vector3d goal_world_m;
+    double until_s;
+  };
+  static constexpr double kRefusedGoalRadius_m = 0.5;
+  std::vector<RefusedGoal> refused_goals_;
   /// Progress toward the current target (target_progress_m).
   struct Progress {
     int viewpoint_id;

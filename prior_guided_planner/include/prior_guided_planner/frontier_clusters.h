@@ -21,8 +21,12 @@ namespace efs::planner {
 struct FrontierClusterConfig {
   int max_cluster_cells = 300;
   double max_cluster_extent_m = 4.0;
-  /// Smaller clusters are kept (so that they can grow) but flagged too small to plan for.
-  int min_cluster_cells = 4;
+  /// Smaller clusters are kept (so that they can grow) but flagged too small to plan for. Ten
+  /// cells of 0.3 m are about 1 m^2 of poorly observed surface, not worth a detour (EPIC keeps
+  /// a minimum point count per cluster likewise). With 4, the quick tier's small worlds spent
+  /// most of their flight after 95 % coverage on such patches: raising it to 10 ended the
+  /// proposed method's garage flight at 138 s instead of 171 s, coverage 99.8 -> 100 %.
+  int min_cluster_cells = 10;
   void validate() const;
 };
 
