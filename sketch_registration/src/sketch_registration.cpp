@@ -56,6 +56,7 @@ void SketchRegistrationConfig::validate() const {
   requirePositive("max_speed_mps", max_speed_mps);
   requireInRange("max_icp_inputs", max_icp_inputs, 1, 100000);
   requireInRange("icp_retry_frames", icp_retry_frames, 0, 100000);
+  requireInRange("dormant_frames", dormant_frames, 0, 100000);
   requireInRange("mirror_min_age_frames", mirror_min_age_frames, 1, 100000);
   requireInRange("max_hypotheses", max_hypotheses, 1, 100000);
   requirePositive("merge_distance", merge_distance);
@@ -147,6 +148,7 @@ void SketchRegistration::reset() {
   verifier_.reset();
   history_.reset();
   live_.clear();
+  dormant_.clear();
   rejected_.clear();
   result_ = RegistrationResult{};
   has_last_ = false;
@@ -307,6 +309,7 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
   };
   std::vector<Input> inputs;
   for (const Hypothesis& h : live_) inputs.push_back({h.id, h.age_frames, h.T_world_sketch});
+  for (const Dormant& d : dormant_) inputs.push_back({d.h.id, d.h.age_frames, d.h.T_world_sketch});
   int added = 0;
   for (const Representative& r : verifier_.representatives()) {
     if (added >= config_.max_icp_inputs) break;
@@ -444,7 +447,25 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
   if (static_cast<int>(kept.size()) > config_.max_hypotheses) {
     kept.resize(static_cast<size_t>(config_.max_hypotheses));
   }
+  // Reported hypotheses that failed go dormant; dormant ones that passed are live again, the
+  // others count a miss and are dropped after dormant_frames.
+  std::vector<Hypothesis> previous = std::move(live_);
   live_.clear();
+  // Passed: refined and kept under its id, or merged into a kept one (which tracks it now).
+  const auto passed = [&](const Hypothesis& h) {
+    return std::any_of(kept.begin(), kept.end(), [&](const Refined& k) {
+      return (k.id && *k.id == h.id) ||
+             transformDistance(k.r.T_world_sketch, h.T_world_sketch, config_.verifier.lambda) <
+                 config_.merge_distance;
+    });
+  };
+  std::vector<Dormant> dormant;
+  for (Dormant& d : dormant_)
+    if (!passed(d.h) && ++d.misses <= config_.dormant_frames) dormant.push_back(d);
+  for (const Hypothesis& h : previous)
+    if (h.age_frames >= config_.confirm_frames && !passed(h) && config_.dormant_frames > 0)
+      dormant.push_back({h, 1});
+  dormant_ = std::move(dormant);
   for (Refined& k : kept) {
     Hypothesis h;
     h.id = k.id ? *k.id : next_id_++;

@@ -233,11 +233,23 @@ TEST(EndToEnd, MildlyDeformedSketch) {
 /// the plan does not have (wall-like columns >= 1.5 m from every wall, ~45 % as many columns as
 /// the walls give) so that the true transform's inlier ratio falls between the bound for kept
 /// hypotheses (0.6) and the one for new hypotheses (0.75).
+/// Adds `count` columns of clutter (points from 0.25 to 2.75 m high) at random places within
+/// `half_extent_m` of `p`, none within 1.5 m of a wall of the world.
+void addClutterColumns(Points3d& map, const syn::Scenario& sc, const Vector2d& p, size_t count,
+                       double half_extent_m, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-half_extent_m, half_extent_m);
+  for (size_t k = 0; k < count;) {
+    const Vector2d c = p + Vector2d(u(rng), u(rng));
+    if (syn::distanceToPlan(sc.world_plan, c) < 1.5) continue;
+    for (double z = 0.25; z < 3.0; z += 0.25) map.emplace_back(c.x(), c.y(), z);
+    ++k;
+  }
+}
+
 std::vector<RegistrationStatus> runWithLateClutter(const syn::Scenario& sc,
                                                    SketchRegistration& reg) {
   syn::LocalMapSimulator sim(sc.world_plan, {});
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u(-12.0, 12.0);
   std::vector<RegistrationStatus> statuses;
   const size_t half = sc.path_world_m.size() / 2;
   for (size_t i = 0; i < sc.path_world_m.size(); ++i) {
@@ -248,12 +260,7 @@ std::vector<RegistrationStatus> runWithLateClutter(const syn::Scenario& sc,
     const Eigen::Vector3d robot(p.x(), p.y(), 1.5);
     if (i >= half) {
       const size_t walls = observe(map, robot, reg.config().observation, 30.0).icp_dense_m.size();
-      for (size_t k = 0; k < (walls * 45) / 100;) {
-        const Vector2d c = p + Vector2d(u(rng), u(rng));
-        if (syn::distanceToPlan(sc.world_plan, c) < 1.5) continue;
-        for (double z = 0.25; z < 3.0; z += 0.25) map.emplace_back(c.x(), c.y(), z);
-        ++k;
-      }
+      addClutterColumns(map, sc, p, (walls * 45) / 100, 12.0, rng);
     }
     statuses.push_back(reg.addFrame(double(i), robot, map).status);
   }
@@ -280,6 +287,65 @@ TEST(EndToEnd, AReportedHypothesisSurvivesClutterANewOneCouldNotPass) {
   const std::vector<RegistrationStatus> late = lateStatuses(strict);
   EXPECT_TRUE(std::any_of(late.begin(), late.end(),
                           [](RegistrationStatus s) { return s != RegistrationStatus::kOk; }));
+}
+
+// One frame whose local map is nothing but clutter (a LiDAR blinded, a map cut wrongly): the
+// reported hypothesis fails it and goes dormant, and on the next good frame it is reported again
+// under its id. Without dormancy (dormant_frames 0) it is gone and must be found and confirmed
+// anew.
+std::vector<RegistrationResult> runWithOneSpoiledFrame(const syn::Scenario& sc,
+                                                       SketchRegistration& reg, size_t* spoiled) {
+  syn::LocalMapSimulator sim(sc.world_plan, {});
+  std::mt19937 rng(3);
+  std::vector<RegistrationResult> out;
+  int ok_frames = 0;
+  *spoiled = 0;
+  for (size_t i = 0; i < sc.path_world_m.size(); ++i) {
+    sim.scanAt(sc.path_world_m[i]);
+    if (i % 5 != 4) continue;
+    const Vector2d p = sc.path_world_m[i];
+    Points3d map = sim.localMap(p, 40.0);
+    if (*spoiled == 0 && ok_frames >= 3) {
+      map.clear();
+      addClutterColumns(map, sc, p, 200, 15.0, rng);
+      *spoiled = out.size();
+    }
+    out.push_back(reg.addFrame(double(i), {p.x(), p.y(), 1.5}, map));
+    if (out.back().status == RegistrationStatus::kOk) ++ok_frames;
+  }
+  return out;
+}
+
+bool reports(const RegistrationResult& r, int id) {
+  return r.status == RegistrationStatus::kOk &&
+         std::any_of(r.hypotheses.begin(), r.hypotheses.end(),
+                     [&](const Hypothesis& h) { return h.id == id; });
+}
+
+TEST(EndToEnd, AHypothesisLostOnOneSpoiledFrameComesBackUnderItsId) {
+  const Sim2 truth(2.0, 1.3, Vector2d(15.0, -7.0));
+  const syn::Scenario sc = officeScenario(truth);
+  const auto run = [&](int dormant_frames, int* id) {
+    SketchRegistration::Config config;
+    config.dormant_frames = dormant_frames;
+    SketchRegistration reg(config, sc.sketch_points_m, sc.candidates_m);
+    size_t spoiled = 0;
+    const std::vector<RegistrationResult> frames = runWithOneSpoiledFrame(sc, reg, &spoiled);
+    EXPECT_GT(spoiled, 0u);
+    EXPECT_LT(spoiled + 1, frames.size());
+    const RegistrationResult& before = frames[spoiled - 1];
+    EXPECT_EQ(before.status, RegistrationStatus::kOk);
+    *id = before.hypotheses.empty() ? -1 : before.hypotheses.front().id;
+    EXPECT_LT(worstError(before.hypotheses.front().T_world_sketch, truth, sc), 1.0);
+    EXPECT_FALSE(reports(frames[spoiled], *id)) << "the clutter frame did not spoil the fit";
+    return frames[spoiled + 1];
+  };
+  int id = -1;
+  const RegistrationResult after = run(12, &id);
+  EXPECT_TRUE(reports(after, id)) << toString(after.status) << ": " << after.message;
+  int id_strict = -1;
+  const RegistrationResult strict = run(0, &id_strict);
+  EXPECT_FALSE(reports(strict, id_strict)) << "came back without dormancy";
 }
 
 TEST(EndToEnd, SketchOfAnotherPlaceYieldsNoHypothesis) {
@@ -389,19 +455,13 @@ syn::Scenario repetitiveCorridor(const Sim2& T) {
 std::vector<RegistrationResult> runWithClutter(const syn::Scenario& sc, SketchRegistration& reg) {
   syn::LocalMapSimulator sim(sc.world_plan, {});
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u(-12.0, 12.0);
   std::vector<RegistrationResult> frames;
   for (size_t i = 0; i < sc.path_world_m.size(); ++i) {
     sim.scanAt(sc.path_world_m[i]);
     if (i % 5 != 4) continue;
     const Vector2d p = sc.path_world_m[i];
     Points3d map = sim.localMap(p, 40.0);
-    for (int k = 0; k < 6;) {
-      const Vector2d c = p + Vector2d(u(rng), u(rng));
-      if (syn::distanceToPlan(sc.world_plan, c) < 1.5) continue;
-      for (double z = 0.25; z < 3.0; z += 0.25) map.emplace_back(c.x(), c.y(), z);
-      ++k;
-    }
+    addClutterColumns(map, sc, p, 6, 12.0, rng);
     frames.push_back(reg.addFrame(double(i), {p.x(), p.y(), 1.5}, map));
   }
   return frames;

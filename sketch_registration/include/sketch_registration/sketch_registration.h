@@ -126,6 +126,13 @@ struct SketchRegistrationConfig {
   /// consecutive frames (the looser kept bounds apply only after that). A wrong place can fit
   /// one frame's map well (seen: F 0.29 m for a sketch of another cave) but not the next one's.
   int confirm_frames = 2;
+  /// A reported hypothesis that fails a frame is not dropped at once: it goes dormant (not
+  /// reported, its transform kept) and is refined again, under the kept bounds, on each of the
+  /// next dormant_frames frames; passing brings it back under its id (the paper's dormant
+  /// solutions, Sec. V-B-3, for refined hypotheses). Seen on the 495 m cave: the true placement,
+  /// held for 128 frames at F 0.15-0.17 m, was lost on one frame whose observation had 59 wall
+  /// columns instead of ~500, and the verifier took 32 frames to find it again. 0: dropped at once.
+  int dormant_frames = 12;
   double confidence_tau = 0.3;  ///< tau
   double max_speed_mps = 20.0;  ///< faster between frames = odometry jump
   ReflectionMode reflection = ReflectionMode::kDetect;
@@ -178,6 +185,11 @@ class SketchRegistration {
   ObservationHistory history_;
   RegistrationResult result_;
   std::vector<Hypothesis> live_;  ///< all refined hypotheses (both handednesses)
+  struct Dormant {
+    Hypothesis h;
+    int misses;  ///< consecutive frames it failed
+  };
+  std::vector<Dormant> dormant_;  ///< reported hypotheses that failed recently (dormant_frames)
   struct Rejected {
     Sim2 T;
     size_t frame;

@@ -61,6 +61,7 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   p.get("min_inlier_ratio", r.icp.min_inlier_ratio);
   p.get("kept_min_inlier_ratio", r.kept_min_inlier_ratio);
   p.get("confirm_frames", r.confirm_frames);
+  p.get("dormant_frames", r.dormant_frames);
   p.get("settled_coverage", r.settled_coverage);
   p.get("coverage_weight_m", r.coverage_weight_m);
   p.get("empty_observed_bins_unknown", r.descriptor.empty_observed_bins_unknown);
