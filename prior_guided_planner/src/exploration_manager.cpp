@@ -310,8 +310,12 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
     }
   }
   if (!goal_m) {
-    target_.state = ExplorationState::kStuck;
-    plan_message_ = "the local planner gave up on the goal of every viewpoint of the tour";
+    // Every viewpoint of this tour is set aside now; the next update plans over the others
+    // (and says kStuck only if none is left).
+    target_.state = ExplorationState::kExploring;
+    goal_refused_ = true;
+    plan_message_ = "every viewpoint of the tour led to a goal the local planner gave up on: " +
+                    std::to_string(set_aside) + " set aside, replanning";
     return;
   }
   for (int i : tour) target_.tour_world_m.push_back(viewpoints_[i].position_world_m);
