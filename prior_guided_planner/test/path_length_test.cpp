@@ -507,22 +507,20 @@ TEST(PathLength, CacheDropsOnlyEntriesNearWhatAScanChanged) {
 
 TEST(PathLength, ConfigErrorsNameTheKey) {
   OccupancyMap occ;
+  const auto expectKey = [&](const PathSearchConfig& c, const std::string& key) {
+    try {
+      PathSearch ps(occ, c);
+      ADD_FAILURE() << "no error for " << key;
+    } catch (const efs::ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
   PathSearchConfig c;
   c.search_resolution_m = 0.0;
-  try {
-    PathSearch ps(occ, c);
-    FAIL();
-  } catch (const efs::ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("path.search_resolution_m"), std::string::npos);
-  }
+  expectKey(c, "path.search_resolution_m");
   c = PathSearchConfig();
   c.shorten_lookahead_m = 0.0;
-  try {
-    PathSearch ps(occ, c);
-    FAIL();
-  } catch (const efs::ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("path.shorten_lookahead_m"), std::string::npos);
-  }
+  expectKey(c, "path.shorten_lookahead_m");
 }
 
 }  // namespace

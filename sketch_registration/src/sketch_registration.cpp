@@ -313,7 +313,9 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
   int added = 0;
   for (const Representative& r : verifier_.representatives()) {
     if (added >= config_.max_icp_inputs) break;
-    // A representative already tracked by a live hypothesis only costs a refinement.
+    // A representative already tracked by a live hypothesis only costs a refinement. One near a
+    // dormant hypothesis is refined too, with the wide capture radius: the dormant one's narrow
+    // refinement is what failed.
     bool known = false;
     for (const Hypothesis& h : live_) {
       if (transformDistance(h.T_world_sketch, r.T_world_sketch, config_.verifier.lambda) <

@@ -170,6 +170,13 @@ void PriorGuidedPlannerNode::reject(const std::string& why) {
   ROS_WARN("prior_guided_planner: %s", why.c_str());
 }
 
+bool PriorGuidedPlannerNode::refusedFrame(const std_msgs::Header& header, const std::string& what) {
+  if (header.frame_id.empty() || header.frame_id == config_.world_frame) return false;
+  reject(what + " refused: frame '" + header.frame_id + "' is not the world frame '" +
+         config_.world_frame + "'");
+  return true;
+}
+
 void PriorGuidedPlannerNode::onOdometry(const nav_msgs::Odometry::ConstPtr& msg) {
   const auto& p = msg->pose.pose.position;
   const auto& q = msg->pose.pose.orientation;
@@ -201,11 +208,7 @@ void PriorGuidedPlannerNode::onScan(const sensor_msgs::PointCloud2::ConstPtr& ms
     reject("scan ignored: no odometry yet (the sensor origin is unknown)");
     return;
   }
-  if (!msg->header.frame_id.empty() && msg->header.frame_id != config_.world_frame) {
-    reject("scan refused: frame '" + msg->header.frame_id + "' is not the world frame '" +
-           config_.world_frame + "'");
-    return;
-  }
+  if (refusedFrame(msg->header, "scan")) return;
   std::vector<Eigen::Vector3f> pts;
   try {
     pts = ros_common::fromPointCloud2(*msg);
@@ -250,11 +253,7 @@ void PriorGuidedPlannerNode::onHypotheses(
 }
 
 void PriorGuidedPlannerNode::onUnreachableGoal(const geometry_msgs::PointStamped::ConstPtr& msg) {
-  if (!msg->header.frame_id.empty() && msg->header.frame_id != config_.world_frame) {
-    reject("unreachable goal refused: frame '" + msg->header.frame_id +
-           "' is not the world frame '" + config_.world_frame + "'");
-    return;
-  }
+  if (refusedFrame(msg->header, "unreachable goal")) return;
   const Eigen::Vector3d goal(msg->point.x, msg->point.y, msg->point.z);
   if (!goal.allFinite()) {
     reject("unreachable goal refused: not finite");

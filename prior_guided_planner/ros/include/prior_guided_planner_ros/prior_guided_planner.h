@@ -65,6 +65,9 @@ class PriorGuidedPlannerNode {
   void publishStatus(const ros::Time& now);
   void publishGuidepoints(const ros::Time& now);
   void reject(const std::string& why);
+  /// Refuses (says so, returns true) input stamped in a frame other than the world frame; an
+  /// empty frame is taken as the world frame.
+  bool refusedFrame(const std_msgs::Header& header, const std::string& what);
   bool onSaveMap(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
 
   PriorGuidedPlannerNodeConfig config_;
