@@ -123,6 +123,11 @@ MissionReport makeReport(const ExplorationMission& mission, const std::string& w
   r.planner_cpu_s = log.planner_cpu_s;
   r.trajectory_cpu_s = log.trajectory_cpu_s;
   r.simulator_cpu_s = log.simulator_cpu_s;
+  constexpr double kMb = 1024.0 * 1024.0;
+  const planner::ExplorationManager& exploration = mission.explorationManager();
+  r.planner_memory_mb =
+      (exploration.observationMap().memoryBytes() + exploration.occupancy().memoryBytes()) / kMb;
+  r.local_grid_memory_mb = mission.trajectoryServer().grid().memoryBytes() / kMb;
   r.registration_frames = log.registrations.size();
   const auto& prior = mission.prior();
   if (!prior) return r;
@@ -188,7 +193,9 @@ std::string toJson(const MissionReport& r) {
     << "  \"cpu_s\": {\"registration\": " << jsonNumber(r.registration_cpu_s)
     << ", \"planner\": " << jsonNumber(r.planner_cpu_s)
     << ", \"trajectory\": " << jsonNumber(r.trajectory_cpu_s)
-    << ", \"simulator\": " << jsonNumber(r.simulator_cpu_s) << "}\n"
+    << ", \"simulator\": " << jsonNumber(r.simulator_cpu_s) << "},\n"
+    << "  \"memory_mb\": {\"planner\": " << jsonNumber(r.planner_memory_mb)
+    << ", \"local_grid\": " << jsonNumber(r.local_grid_memory_mb) << "}\n"
     << "}\n";
   return o.str();
 }
@@ -224,7 +231,9 @@ std::string toMarkdown(const MissionReport& r) {
     << fmt(r.min_clearance_m, 2) << " m |\n"
     << "| CPU: registration / planner / trajectory / simulator | " << fmt(r.registration_cpu_s, 1)
     << " / " << fmt(r.planner_cpu_s, 1) << " / " << fmt(r.trajectory_cpu_s, 1) << " / "
-    << fmt(r.simulator_cpu_s, 1) << " s |\n";
+    << fmt(r.simulator_cpu_s, 1) << " s |\n"
+    << "| memory at the end: exploration maps / local grid | " << fmt(r.planner_memory_mb, 1)
+    << " / " << fmt(r.local_grid_memory_mb, 1) << " MB |\n";
   return o.str();
 }
 

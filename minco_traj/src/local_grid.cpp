@@ -192,6 +192,16 @@ void LocalGrid::restoreRemembered() {
       }
 }
 
+size_t LocalGrid::memoryBytes() const {
+  // A hash node holds the key, the vector and the next pointer (and a cached hash).
+  const size_t node = sizeof(VoxelKey) + sizeof(std::vector<RememberedCell>) + 2 * sizeof(void*);
+  size_t bytes = cells_.capacity() * sizeof(Cell) + memory_.bucket_count() * sizeof(void*);
+  for (const auto& [block, cells] : memory_) {
+    bytes += node + cells.capacity() * sizeof(RememberedCell);
+  }
+  return bytes;
+}
+
 void LocalGrid::cropMemory() {
   const Eigen::Vector3d c = 0.5 * (windowMin() + windowMax());
   const double block_m = cfg_.resolution_m * (1 << kMemoryBlockBits);

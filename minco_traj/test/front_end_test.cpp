@@ -161,6 +161,27 @@ TEST(LocalGrid, OccupiedCellsThatLeftComeBackWhenTheWindowReturns) {
   EXPECT_EQ(g.state(wall), CellState::kUnknown);
 }
 
+// The default memory spans a paper-sized cave: a floor mapped on the way out is still there when
+// the vehicle comes back from 450 m away (with 100 m it was unknown, and was flown into).
+TEST(LocalGrid, DefaultMemorySpansAPaperSizedCave) {
+  LocalGridConfig cfg;
+  cfg.size_x_m = cfg.size_y_m = 4.0;
+  cfg.size_z_m = 2.0;
+  LocalGrid g(cfg, Eigen::Vector3d(0, 0, 0));
+  const size_t window_bytes = g.memoryBytes();
+  const Eigen::Vector3d floor_cell(0.55, 0.05, -0.75);
+  for (int i = 0; i < 10; ++i) {
+    for (int j = 0; j < 10; ++j) g.setOccupied(floor_cell + Eigen::Vector3d(-0.1 * i, 0.1 * j, 0));
+  }
+  for (double x = 50.0; x <= 450.0; x += 50.0) g.recenter(Eigen::Vector3d(x, 0, 0));
+  EXPECT_EQ(g.rememberedCount(), 100u);
+  // The memory is counted: at least a key and a log-odds per remembered cell.
+  EXPECT_GE(g.memoryBytes(), window_bytes + 100 * 16);
+  g.recenter(Eigen::Vector3d(0, 0, 0));
+  EXPECT_EQ(g.state(floor_cell), CellState::kOccupied);
+  EXPECT_EQ(g.rememberedCount(), 0u);
+}
+
 TEST(LocalGrid, InflationAfterRecentringMatchesAFreshGrid) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1.5, 1.5);

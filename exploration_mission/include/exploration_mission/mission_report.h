@@ -44,6 +44,9 @@ struct MissionReport {
   double min_clearance_m = 0.0;  ///< closest approach of the vehicle centre to the world
   double registration_cpu_s = 0.0, planner_cpu_s = 0.0, trajectory_cpu_s = 0.0;
   double simulator_cpu_s = 0.0;
+  /// Heap held at the end: the exploration planner's observation map and occupancy, and the
+  /// local planner's grid with its surface memory. Both grow with the mapped surface.
+  double planner_memory_mb = 0.0, local_grid_memory_mb = 0.0;
 };
 
 /// Root-mean-square distance between `points` mapped by `estimate` and by `truth` (the

@@ -11,7 +11,7 @@
 //         each from within `direction_rule_max_distance_m` (0 disables rule b), or
 //     (c) a point fell in it from within `facing_max_distance_m` along a ray whose angle to
 //         the surface normal has a cosine of at least `facing_min_cosine` (EPIC's "good
-//         observation": seen nearly head-on from up to 12 m). The normal is the least-variance
+//         observation": seen from up to 12 m, not grazing). The normal is the least-variance
 //         axis of the hit centroids of the cell and its surface neighbours (no normal, no
 //         rule c, where fewer than 5 cells or no plane stand there);
 //   otherwise it is POORLY OBSERVED. Being well observed is monotone: it is never lost.
@@ -52,8 +52,14 @@ struct ObservationMapConfig {
   double direction_rule_max_distance_m = 10.0;
   /// Rule (c): one observation from within this distance (0 disables the rule) ...
   double facing_max_distance_m = 12.0;
-  /// ... nearly head-on: |cos(ray, surface normal)| at least this.
-  double facing_min_cosine = 0.6;
+  /// ... not grazing: |cos(ray, surface normal)| at least this (the ray at least 17.5 deg above
+  /// the surface). With 0.6 (53 deg from the normal) a cave floor was never well observed from
+  /// mid-height: the Mid-360 pitched 15 deg sees no lower than 22 deg below the horizon, so the
+  /// floor 4.5 m down is first seen at that angle from 12 m. Its frontier was 60 % of all, and
+  /// every method flew down to each patch: in the paper-sized cave 0.3 cut the prior-free flight
+  /// from 794 s / 1973 m to 556 s / 1551 m and the guided one from 771 s / 1836 m to
+  /// 498 s / 1309 m, coverage 98 % for both. EPIC's depth-ratio test admits about 9 deg.
+  double facing_min_cosine = 0.3;
   void validate() const;
 };
 
