@@ -163,8 +163,29 @@ void LocalGrid::recenter(const Eigen::Vector3d& c) {
 }
 
 void LocalGrid::remember(const VoxelKey& k, float logodds) {
-  memory_[memoryBlock(k)].push_back({k, logodds});
+  const VoxelKey block = memoryBlock(k);
+  memory_[block].push_back(packRemembered(k, block, logodds));
   ++remembered_;
+}
+
+LocalGrid::RememberedCell LocalGrid::packRemembered(const VoxelKey& k, const VoxelKey& block,
+                                                    float logodds) const {
+  constexpr int kSide = 1 << kMemoryBlockBits;
+  const int base_x = block.x * kSide, base_y = block.y * kSide, base_z = block.z * kSide;
+  const double step = (cfg_.logodds_max - cfg_.logodds_min) / 255.0;
+  const double q = std::ceil((logodds - cfg_.logodds_min) / step);
+  return {static_cast<uint8_t>(k.x - base_x), static_cast<uint8_t>(k.y - base_y),
+          static_cast<uint8_t>(k.z - base_z), static_cast<uint8_t>(std::clamp(q, 0.0, 255.0))};
+}
+
+VoxelKey LocalGrid::rememberedKey(const RememberedCell& c, const VoxelKey& block) const {
+  constexpr int kSide = 1 << kMemoryBlockBits;
+  return {block.x * kSide + c.x, block.y * kSide + c.y, block.z * kSide + c.z};
+}
+
+float LocalGrid::rememberedLogodds(const RememberedCell& c) const {
+  const double step = (cfg_.logodds_max - cfg_.logodds_min) / 255.0;
+  return static_cast<float>(std::min(cfg_.logodds_max, cfg_.logodds_min + c.logodds_q * step));
 }
 
 void LocalGrid::restoreRemembered() {
@@ -172,17 +193,19 @@ void LocalGrid::restoreRemembered() {
   for (int32_t bx = lo.x; bx <= hi.x; ++bx)
     for (int32_t by = lo.y; by <= hi.y; ++by)
       for (int32_t bz = lo.z; bz <= hi.z; ++bz) {
-        const auto it = memory_.find({bx, by, bz});
+        const VoxelKey block{bx, by, bz};
+        const auto it = memory_.find(block);
         if (it == memory_.end()) continue;
         std::vector<RememberedCell>& cells = it->second;
         size_t kept = 0;
         for (const RememberedCell& c : cells) {
-          if (!inWindow(c.key)) {
+          const VoxelKey key = rememberedKey(c, block);
+          if (!inWindow(key)) {
             cells[kept++] = c;
             continue;
           }
-          const size_t i = index(c.key);
-          cells_[i].logodds = c.logodds;
+          const size_t i = index(key);
+          cells_[i].logodds = rememberedLogodds(c);
           cells_[i].observed = 1;
           cells_[i].occupied = 1;
         }

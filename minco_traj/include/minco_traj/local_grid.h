@@ -56,7 +56,7 @@ struct LocalGridConfig {
   /// of the window centre; 0 forgets them. It spans the paper's worlds: with 100 m a prior-free
   /// flight of the 500 m cave came back along it after 360 s and 390 m away, the floor it had
   /// mapped was unknown again, and the vehicle descended into it below the LiDAR's field of
-  /// view at 4 m/s. The memory grows with the mapped surface only (16 bytes per occupied cell).
+  /// view at 4 m/s. The memory grows with the mapped surface only (4 bytes per occupied cell).
   double memory_radius_m = 1000.0;
   void validate() const;
 };
@@ -186,10 +186,16 @@ class LocalGrid {
   std::vector<int> stamp_slots_x_, stamp_slots_y_, stamp_slots_z_;
   std::vector<std::pair<uint64_t, uint32_t>> ray_bins_;  ///< scratch: (coarse key, point index)
 
+  /// Four bytes: the cell's offset in its block and its log-odds quantised over
+  /// [logodds_min, logodds_max], rounded up so that a remembered cell stays above the occupied
+  /// threshold. A 500 m cave's surface memory was 68 MB as a full key and a float per cell.
   struct RememberedCell {
-    VoxelKey key;
-    float logodds;
+    uint8_t x, y, z;
+    uint8_t logodds_q;
   };
+  RememberedCell packRemembered(const VoxelKey& k, const VoxelKey& block, float logodds) const;
+  VoxelKey rememberedKey(const RememberedCell& c, const VoxelKey& block) const;
+  float rememberedLogodds(const RememberedCell& c) const;
   static constexpr int kMemoryBlockBits = 4;
   std::unordered_map<VoxelKey, std::vector<RememberedCell>, VoxelKeyHash> memory_;
   size_t remembered_ = 0;
