@@ -161,24 +161,27 @@ TEST(LocalGrid, OccupiedCellsThatLeftComeBackWhenTheWindowReturns) {
   EXPECT_EQ(g.state(wall), CellState::kUnknown);
 }
 
-// The default memory spans a paper-sized cave: a floor mapped on the way out is still there when
-// the vehicle comes back from 450 m away (with 100 m it was unknown, and was flown into).
-TEST(LocalGrid, DefaultMemorySpansAPaperSizedCave) {
+// A patch of floor flown away from for 450 m comes back whole from the packed memory (cells on
+// both sides of a block boundary, negative keys included), and the memory is counted.
+TEST(LocalGrid, RememberedPatchComesBackAfterALongFlight) {
   LocalGridConfig cfg;
   cfg.size_x_m = cfg.size_y_m = 4.0;
   cfg.size_z_m = 2.0;
+  cfg.memory_radius_m = 1000.0;
   LocalGrid g(cfg, Eigen::Vector3d(0, 0, 0));
   const size_t window_bytes = g.memoryBytes();
-  const Eigen::Vector3d floor_cell(0.55, 0.05, -0.75);
+  std::vector<Eigen::Vector3d> patch;
   for (int i = 0; i < 10; ++i) {
-    for (int j = 0; j < 10; ++j) g.setOccupied(floor_cell + Eigen::Vector3d(-0.1 * i, 0.1 * j, 0));
+    for (int j = 0; j < 10; ++j) patch.emplace_back(0.55 - 0.1 * i, -0.45 + 0.1 * j, -0.75);
   }
+  for (const Eigen::Vector3d& p : patch) g.setOccupied(p);
   for (double x = 50.0; x <= 450.0; x += 50.0) g.recenter(Eigen::Vector3d(x, 0, 0));
   EXPECT_EQ(g.rememberedCount(), 100u);
-  // The memory is counted: four bytes per remembered cell at least.
+  // Four bytes per remembered cell at least.
   EXPECT_GE(g.memoryBytes(), window_bytes + 100 * 4);
   g.recenter(Eigen::Vector3d(0, 0, 0));
-  EXPECT_EQ(g.state(floor_cell), CellState::kOccupied);
+  for (const Eigen::Vector3d& p : patch) EXPECT_EQ(g.state(p), CellState::kOccupied);
+  EXPECT_EQ(g.occupiedCount(), 100u);
   EXPECT_EQ(g.rememberedCount(), 0u);
 }
 

@@ -53,11 +53,10 @@ struct LocalGridConfig {
   double logodds_max = 3.5;
   double logodds_occupied = 0.7;  ///< above this an observed cell is occupied
   /// Occupied cells that left the window are remembered while within this horizontal distance
-  /// of the window centre; 0 forgets them. It spans the paper's worlds: with 100 m a prior-free
-  /// flight of the 500 m cave came back along it after 360 s and 390 m away, the floor it had
-  /// mapped was unknown again, and the vehicle descended into it below the LiDAR's field of
-  /// view at 4 m/s. The memory grows with the mapped surface only (4 bytes per occupied cell).
-  double memory_radius_m = 1000.0;
+  /// of the window centre; 0 forgets them. The memory grows with the mapped surface (4 bytes per
+  /// occupied cell). Only what was inside the window is remembered: a floor more than
+  /// size_z_m / 2 below the vehicle as it passed never was.
+  double memory_radius_m = 100.0;
   void validate() const;
 };
 
