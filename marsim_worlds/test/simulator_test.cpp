@@ -1,5 +1,6 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include "marsim_worlds/simulator.h"
+#include "efs_common/testing/config_error.h"
 
 #include <gtest/gtest.h>
 
@@ -272,12 +273,7 @@ TEST(Simulator, CoverageAndDistanceLogWhileFlying) {
 TEST(Simulator, BadStartPosesAndConfigsNameTheKey) {
   const AnalyticBoxWorld room = makeRoomWithPillar({10.0, 10.0, 3.0}, 0.0, 0.0, 1.0);
   auto expectKey = [&](const SimulatorConfig& c, const std::string& key) {
-    try {
-      Simulator sim(room, c);
-      ADD_FAILURE() << "expected ConfigError naming " << key;
-    } catch (const ConfigError& e) {
-      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
-    }
+    efs::testing::expectConfigErrorNaming([&] { Simulator sim(room, c); }, key);
   };
   expectKey(baseConfig({0, 0, 1.5}), "initial_position_m");   // inside the pillar
   expectKey(baseConfig({50, 0, 1.5}), "initial_position_m");  // outside the bounds

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "efs_common/config_check.h"
+#include "efs_common/container_bytes.h"
 
 namespace efs::traj {
 
@@ -170,22 +171,20 @@ void LocalGrid::remember(const VoxelKey& k, float logodds) {
 
 LocalGrid::RememberedCell LocalGrid::packRemembered(const VoxelKey& k, const VoxelKey& block,
                                                     float logodds) const {
-  constexpr int kSide = 1 << kMemoryBlockBits;
-  const int base_x = block.x * kSide, base_y = block.y * kSide, base_z = block.z * kSide;
-  const double step = (cfg_.logodds_max - cfg_.logodds_min) / 255.0;
-  const double q = std::ceil((logodds - cfg_.logodds_min) / step);
-  return {static_cast<uint8_t>(k.x - base_x), static_cast<uint8_t>(k.y - base_y),
-          static_cast<uint8_t>(k.z - base_z), static_cast<uint8_t>(std::clamp(q, 0.0, 255.0))};
+  const VoxelKey base = rememberedKey({0, 0, 0, 0}, block);
+  const double q = std::ceil((logodds - cfg_.logodds_min) / rememberedLogoddsStep());
+  return {static_cast<uint8_t>(k.x - base.x), static_cast<uint8_t>(k.y - base.y),
+          static_cast<uint8_t>(k.z - base.z), static_cast<uint8_t>(std::clamp(q, 0.0, 255.0))};
 }
 
 VoxelKey LocalGrid::rememberedKey(const RememberedCell& c, const VoxelKey& block) const {
-  constexpr int kSide = 1 << kMemoryBlockBits;
-  return {block.x * kSide + c.x, block.y * kSide + c.y, block.z * kSide + c.z};
+  return {block.x * kMemoryBlockSide + c.x, block.y * kMemoryBlockSide + c.y,
+          block.z * kMemoryBlockSide + c.z};
 }
 
 float LocalGrid::rememberedLogodds(const RememberedCell& c) const {
-  const double step = (cfg_.logodds_max - cfg_.logodds_min) / 255.0;
-  return static_cast<float>(std::min(cfg_.logodds_max, cfg_.logodds_min + c.logodds_q * step));
+  return static_cast<float>(
+      std::min(cfg_.logodds_max, cfg_.logodds_min + c.logodds_q * rememberedLogoddsStep()));
 }
 
 void LocalGrid::restoreRemembered() {
@@ -216,18 +215,14 @@ void LocalGrid::restoreRemembered() {
 }
 
 size_t LocalGrid::memoryBytes() const {
-  // A hash node holds the key, the vector and the next pointer (and a cached hash).
-  const size_t node = sizeof(VoxelKey) + sizeof(std::vector<RememberedCell>) + 2 * sizeof(void*);
-  size_t bytes = cells_.capacity() * sizeof(Cell) + memory_.bucket_count() * sizeof(void*);
-  for (const auto& [block, cells] : memory_) {
-    bytes += node + cells.capacity() * sizeof(RememberedCell);
-  }
+  size_t bytes = cells_.capacity() * sizeof(Cell) + hashContainerBytes(memory_);
+  for (const auto& [block, cells] : memory_) bytes += cells.capacity() * sizeof(RememberedCell);
   return bytes;
 }
 
 void LocalGrid::cropMemory() {
   const Eigen::Vector3d c = 0.5 * (windowMin() + windowMax());
-  const double block_m = cfg_.resolution_m * (1 << kMemoryBlockBits);
+  const double block_m = cfg_.resolution_m * kMemoryBlockSide;
   const double r = cfg_.memory_radius_m + block_m;  // block centre to its farthest cell
   for (auto it = memory_.begin(); it != memory_.end();) {
     const Eigen::Vector2d b((it->first.x + 0.5) * block_m, (it->first.y + 0.5) * block_m);

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "efs_common/config_check.h"
+#include "efs_common/testing/config_error.h"
 #include "minco_traj/trajectory_server.h"
 
 namespace efs::traj {
@@ -448,12 +449,7 @@ TEST(TrajectoryServer, HoldAlongPathStopsOnTheCurrentTrajectoryAndResumes) {
 
 TEST(TrajectoryServer, ConfigValidationNamesTheKey) {
   const auto expectKey = [](const TrajectoryServerConfig& c, const std::string& key) {
-    try {
-      TrajectoryServer server(c);
-      ADD_FAILURE() << "no error for " << key;
-    } catch (const ConfigError& e) {
-      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
-    }
+    efs::testing::expectConfigErrorNaming([&] { TrajectoryServer server(c); }, key);
   };
   TrajectoryServerConfig cfg;
   cfg.replan_period_s = 0.0;

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "efs_common/config_check.h"
+#include "efs_common/container_bytes.h"
 
 namespace efs::planner {
 
@@ -271,12 +272,8 @@ int ObservationMap::bestLevelNear2d(const Eigen::Vector2d& c, double radius_m) c
 }
 
 size_t ObservationMap::memoryBytes() const {
-  const size_t node = sizeof(VoxelKey) + sizeof(SurfaceCell) + sizeof(void*) + sizeof(size_t);
-  const size_t set_node = sizeof(VoxelKey) + sizeof(void*) + sizeof(size_t);
-  const size_t col_node = sizeof(VoxelKey) + 8 + sizeof(void*) + sizeof(size_t);
-  return cells_.size() * node + cells_.bucket_count() * sizeof(void*) + columns_.size() * col_node +
-         columns_.bucket_count() * sizeof(void*) + frontier_cells_.size() * set_node +
-         frontier_cells_.bucket_count() * sizeof(void*);
+  return hashContainerBytes(cells_) + hashContainerBytes(columns_) +
+         hashContainerBytes(frontier_cells_);
 }
 
 }  // namespace efs::planner

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "efs_common/config_check.h"
+#include "efs_common/container_bytes.h"
 
 namespace efs::planner {
 
@@ -235,9 +236,7 @@ bool OccupancyMap::lineOfSight(const Eigen::Vector3d& from, const Eigen::Vector3
 }
 
 size_t OccupancyMap::memoryBytes() const {
-  // Each node of the hash table holds the key, the pointer and the next pointer.
-  const size_t node = sizeof(VoxelKey) + sizeof(void*) * 2 + sizeof(size_t);
-  return blocks_.size() * (sizeof(Block) + node) + blocks_.bucket_count() * sizeof(void*);
+  return hashContainerBytes(blocks_) + blocks_.size() * sizeof(Block);
 }
 
 }  // namespace efs::planner

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "efs_common/config_check.h"
+#include "efs_common/testing/config_error.h"
 #include "observation_map_test_scenes.h"
 #include "prior_guided_planner/occupancy_map.h"
 #include "prior_guided_planner/path_length.h"
@@ -508,12 +509,7 @@ TEST(PathLength, CacheDropsOnlyEntriesNearWhatAScanChanged) {
 TEST(PathLength, ConfigErrorsNameTheKey) {
   OccupancyMap occ;
   const auto expectKey = [&](const PathSearchConfig& c, const std::string& key) {
-    try {
-      PathSearch ps(occ, c);
-      ADD_FAILURE() << "no error for " << key;
-    } catch (const efs::ConfigError& e) {
-      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
-    }
+    efs::testing::expectConfigErrorNaming([&] { PathSearch ps(occ, c); }, key);
   };
   PathSearchConfig c;
   c.search_resolution_m = 0.0;

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "efs_common/config_check.h"
+#include "efs_common/testing/config_error.h"
 #include "sketch_registration/sketch_registration.h"
 #include "sketch_registration/synthetic_scene.h"
 
@@ -126,12 +127,7 @@ TEST(BadInput, FramesTooCloseAreNotCountedTwice) {
 
 TEST(BadInput, ConfigValidationNamesTheKey) {
   auto expectKey = [](SketchRegistration::Config c, const std::string& key) {
-    try {
-      c.validate();
-      ADD_FAILURE() << "expected ConfigError for " << key;
-    } catch (const ConfigError& e) {
-      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
-    }
+    efs::testing::expectConfigErrorNaming([&] { c.validate(); }, key);
   };
   SketchRegistration::Config c;
   c.scale_guess = 0.0;

@@ -196,6 +196,9 @@ class LocalGrid {
   VoxelKey rememberedKey(const RememberedCell& c, const VoxelKey& block) const;
   float rememberedLogodds(const RememberedCell& c) const;
   static constexpr int kMemoryBlockBits = 4;
+  static constexpr int kMemoryBlockSide = 1 << kMemoryBlockBits;
+  /// Log-odds per quantisation step of a remembered cell.
+  double rememberedLogoddsStep() const { return (cfg_.logodds_max - cfg_.logodds_min) / 255.0; }
   std::unordered_map<VoxelKey, std::vector<RememberedCell>, VoxelKeyHash> memory_;
   size_t remembered_ = 0;
 };
