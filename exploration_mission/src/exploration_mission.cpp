@@ -63,8 +63,6 @@ const char* toString(MissionEnd end) {
       return "collision";
     case MissionEnd::kTimeLimit:
       return "time limit";
-    case MissionEnd::kStuck:
-      return "stuck";
   }
   return "?";
 }
@@ -256,15 +254,11 @@ void ExplorationMission::onScan() {
   }
   if (target->active_hypothesis_id) last_active_hypothesis_id_ = target->active_hypothesis_id;
   planner_state_ = planner::toString(target->state);
-  switch (target->state) {
-    case planner::ExplorationState::kFinished:
-      finish(MissionEnd::kExplorationComplete, target->message);
-      return;
-    case planner::ExplorationState::kStuck:
-      finish(MissionEnd::kStuck, target->message);
-      return;
-    default:
-      break;
+  // kStuck is transient (the manager gives up what it cannot reach): the vehicle holds its
+  // trajectory and the next update looks again, as in the ROS graph.
+  if (target->state == planner::ExplorationState::kFinished) {
+    finish(MissionEnd::kExplorationComplete, target->message);
+    return;
   }
   if (target->has_goal &&
       (!current_goal_ || (*current_goal_ - target->goal_world_m).norm() > 1e-6)) {

@@ -116,6 +116,7 @@ MissionReport makeReport(const ExplorationMission& mission, const std::string& w
   r.emergency_stops = log.emergency_stops;
   r.planner_cycles = log.planner_cycles;
   r.goals_given_up = log.goals_given_up;
+  r.viewpoints_given_up = mission.explorationManager().inputStats().viewpoints_given_up;
   r.max_tracking_error_m = log.max_tracking_error_m;
   r.rms_tracking_error_m = log.rms_tracking_error_m;
   r.min_clearance_m = log.min_clearance_m;
@@ -187,6 +188,7 @@ std::string toJson(const MissionReport& r) {
     << "  \"emergency_stops\": " << r.emergency_stops << ",\n"
     << "  \"planner_cycles\": " << r.planner_cycles << ",\n"
     << "  \"goals_given_up\": " << r.goals_given_up << ",\n"
+    << "  \"viewpoints_given_up\": " << r.viewpoints_given_up << ",\n"
     << "  \"tracking_error_m\": {\"max\": " << jsonNumber(r.max_tracking_error_m)
     << ", \"rms\": " << jsonNumber(r.rms_tracking_error_m) << "},\n"
     << "  \"min_clearance_m\": " << jsonNumber(r.min_clearance_m) << ",\n"
@@ -225,6 +227,8 @@ std::string toMarkdown(const MissionReport& r) {
   o << "| replans / emergency stops / planner cycles | " << r.replans << " / " << r.emergency_stops
     << " / " << r.planner_cycles << " |\n"
     << "| goals the local planner gave up on | " << r.goals_given_up << " |\n"
+    << "| viewpoints left unvisited, given up as unreachable | " << r.viewpoints_given_up
+    << " |\n"
     << "| tracking error max / RMS | " << fmt(r.max_tracking_error_m, 2) << " / "
     << fmt(r.rms_tracking_error_m, 2) << " m |\n"
     << "| closest approach to the world (centre; collision radius 0.25 m) | "

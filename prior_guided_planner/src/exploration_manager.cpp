@@ -28,6 +28,7 @@ void ExplorationManagerConfig::validate() const {
   requireInRange("target_progress_m", target_progress_m, 0.0, 1e3);
   requireInRange("target_progress_timeout_s", target_progress_timeout_s, 0.1, 1e6);
   requireInRange("unreachable_retry_s", unreachable_retry_s, 0.0, 1e6);
+  requireInRange("unreachable_attempts", unreachable_attempts, 1, 1000);
   requireInRange("max_goal_distance_m", max_goal_distance_m, 1.0, 1e4);
   requireInRange("max_goal_climb_m", max_goal_climb_m, 0.5, 1e4);
   requireInRange("tour_lookahead_m", tour_lookahead_m, 0.0, 1e4);
@@ -147,7 +148,7 @@ bool ExplorationManager::reportGoalUnreachable(const Eigen::Vector3d& goal_world
       !target_.goal_viewpoint_id || (goal_world_m - target_.goal_world_m).norm() > kSameGoal_m)
     return false;
   const int id = *target_.goal_viewpoint_id;
-  set_aside_until_s_[id] = time_s + config_.unreachable_retry_s;
+  setAside(id, time_s);
   refused_goals_.push_back({goal_world_m, time_s + config_.unreachable_retry_s});
   if (progress_ && progress_->viewpoint_id == id) progress_.reset();
   goal_refused_ = true;
@@ -199,30 +200,52 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   std::vector<int> vp_cluster;
   std::set<int> alive;
   int set_aside = 0;
-  // Alive, not reached, not set aside: a candidate.
+  int given_up = 0;
+  // Alive, not reached, not set aside, not given up: a candidate.
   const auto candidate = [&](int id, const std::set<int>& reached) {
     alive.insert(id);
     if (reached.count(id)) return false;
+    if (given_up_ids_.count(id)) {
+      ++given_up;
+      return false;
+    }
     if (!set_aside_until_s_.count(id)) return true;
     ++set_aside;
     return false;
   };
-  for (const Viewpoint& v : viewpoint_manager_.all()) {
-    if (!candidate(v.id, reached_viewpoint_ids_)) continue;
-    vps.push_back({v.id, v.position_world_m, v.yaw_rad});
-    vp_cluster.push_back(v.cluster_id);
-  }
-  // No surface viewpoint left: the ways on that the surface frontiers cannot see (openings.h).
-  opening_look_at_.clear();
-  if (vps.empty() && config_.use_openings) {
-    for (const Opening& o : findOpenings(occupancy_, robot.position_world_m, config_.bounds_world_m,
-                                         config_.openings)) {
-      if (!candidate(o.id, reached_opening_ids_)) continue;
-      vps.push_back({o.id, o.viewpoint_world_m, o.yaw_rad});
-      vp_cluster.push_back(-1);
-      opening_look_at_[o.id] = o.viewpoint_world_m +
-                               3.0 * Eigen::Vector3d(std::cos(o.yaw_rad), std::sin(o.yaw_rad), 0.0);
+  const auto collect = [&] {
+    vps.clear();
+    vp_cluster.clear();
+    alive.clear();
+    set_aside = given_up = 0;
+    for (const Viewpoint& v : viewpoint_manager_.all()) {
+      if (!candidate(v.id, reached_viewpoint_ids_)) continue;
+      vps.push_back({v.id, v.position_world_m, v.yaw_rad});
+      vp_cluster.push_back(v.cluster_id);
     }
+    // No surface viewpoint left: the ways on that the surface frontiers cannot see (openings.h).
+    opening_look_at_.clear();
+    if (vps.empty() && config_.use_openings) {
+      for (const Opening& o : findOpenings(occupancy_, robot.position_world_m,
+                                           config_.bounds_world_m, config_.openings)) {
+        if (!candidate(o.id, reached_opening_ids_)) continue;
+        vps.push_back({o.id, o.viewpoint_world_m, o.yaw_rad});
+        vp_cluster.push_back(-1);
+        opening_look_at_[o.id] =
+            o.viewpoint_world_m +
+            3.0 * Eigen::Vector3d(std::cos(o.yaw_rad), std::sin(o.yaw_rad), 0.0);
+      }
+    }
+  };
+  collect();
+  // Nothing else to do: waiting out the retry time would only hover in place, so what was set
+  // aside gets its next attempt now (and is given up once it has had unreachable_attempts).
+  std::string retry_note;
+  if (vps.empty() && set_aside > 0) {
+    retry_note = ", " + std::to_string(set_aside) + " set aside retried early (nothing else left)";
+    set_aside_until_s_.clear();
+    refused_goals_.clear();
+    collect();
   }
   for (const PlanViewpoint& old : viewpoints_)
     if (!alive.count(old.id)) path_cache_.forget(static_cast<uint64_t>(old.id));
@@ -265,20 +288,21 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   target_.goal_viewpoint_id.reset();
   switch (plan.status) {
     case PlanningStatus::kNoViewpoints:
-      if (set_aside > 0) {
-        target_.state = ExplorationState::kStuck;
-        plan_message_ = std::to_string(set_aside) +
-                        " viewpoint(s) remain, all set aside as unreachable (no progress "
-                        "toward them, or the local planner found no way)";
-        return;
-      }
       target_.state = ExplorationState::kFinished;
       plan_message_ = "no viewpoint remains: exploration finished";
+      if (given_up > 0)
+        plan_message_ += " (" + std::to_string(given_up) +
+                         " left unvisited, given up as unreachable after " +
+                         std::to_string(config_.unreachable_attempts) + " attempt(s) each)";
       return;
     case PlanningStatus::kNoReachableViewpoint:
+      // Each is one attempt: the next update plans again, and those the search never reaches
+      // are given up in the end.
+      for (const PlanViewpoint& v : viewpoints_) setAside(v.id, time_s);
       target_.state = ExplorationState::kStuck;
+      goal_refused_ = true;
       plan_message_ = std::to_string(viewpoints_.size()) +
-                      " viewpoint(s) remain but none is reachable from the robot";
+                      " viewpoint(s) remain but none is reachable from the robot: set aside";
       return;
     case PlanningStatus::kOk:
       break;
@@ -304,7 +328,7 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
     } else if (near && !refusedGoal(v.position_world_m)) {
       goal_m = v.position_world_m;
     } else {
-      set_aside_until_s_[v.id] = time_s + config_.unreachable_retry_s;
+      setAside(v.id, time_s);
       ++set_aside;
       tour.erase(tour.begin());
     }
@@ -346,6 +370,8 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   if (!plan.tour.unreachable_viewpoints.empty())
     os << ", " << plan.tour.unreachable_viewpoints.size() << " unreachable";
   if (set_aside > 0) os << ", " << set_aside << " set aside (unreachable)";
+  if (given_up > 0) os << ", " << given_up << " given up";
+  os << retry_note;
   plan_message_ = os.str();
   const double length = robot_len_[first];
   if (!progress_ || progress_->viewpoint_id != goal.id) {
@@ -361,9 +387,15 @@ bool ExplorationManager::checkProgress(double time_s) {
       progress_->viewpoint_id != *target_.goal_viewpoint_id)
     return true;
   if (time_s - progress_->since_s < config_.target_progress_timeout_s) return true;
-  set_aside_until_s_[progress_->viewpoint_id] = time_s + config_.unreachable_retry_s;
+  setAside(progress_->viewpoint_id, time_s);
   progress_.reset();
   return false;
+}
+
+void ExplorationManager::setAside(int id, double time_s) {
+  set_aside_until_s_[id] = time_s + config_.unreachable_retry_s;
+  if (++set_aside_count_[id] >= config_.unreachable_attempts && given_up_ids_.insert(id).second)
+    ++stats_.viewpoints_given_up;
 }
 
 bool ExplorationManager::refusedGoal(const Eigen::Vector3d& goal_world_m) const {

@@ -14,7 +14,8 @@ namespace efs::planner {
 
 void OpeningConfig::validate() const {
   requireInRange("openings.min_cells", min_cells, 1, 1000000);
-  requireInRange("openings.clearance_m", clearance_m, 0.0, 10.0);
+  requireInRange("openings.viewpoint_clearance_m", viewpoint_clearance_m, 0.0, 10.0);
+  requireInRange("openings.max_backoff_m", max_backoff_m, 0.0, 100.0);
   requireInRange("openings.search_radius_m", search_radius_m, 1.0, 100000.0);
 }
 
@@ -23,6 +24,8 @@ namespace {
 constexpr int kHorizontal[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
 /// Opening cells keep this many cells above a floor (0.6 m at 0.3 m) and one below a ceiling.
 constexpr int kFloorCells = 2;
+/// The viewpoint search starts from at most this many cluster cells (nearest the centroid).
+constexpr size_t kMaxViewpointStarts = 32;
 
 bool keyLess(const VoxelKey& a, const VoxelKey& b) {
   return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z);
@@ -75,23 +78,33 @@ std::vector<Opening> findOpenings(const OccupancyMap& occ, const Eigen::Vector3d
       if (keyLess(k, smallest)) smallest = k;
     }
     centroid /= static_cast<double>(cluster.size());
-    // The viewpoint: the safe cluster cell nearest the centroid, a cell back from the unknown
-    // side when that one is safe too (the sensor then sees through the opening, not into it).
-    const Eigen::Vector2d away = dir.squaredNorm() > 0.0 ? Eigen::Vector2d(-dir.normalized())
-                                                         : Eigen::Vector2d::Zero();
+    // The viewpoint: from the cluster cells nearest the centroid, stepping back away from the
+    // unknown side (and a cell or two up, off a floor not seen), the first known-free place.
+    const Eigen::Vector2d away =
+        dir.squaredNorm() > 0.0 ? Eigen::Vector2d(-dir.normalized()) : Eigen::Vector2d::Zero();
+    std::vector<Eigen::Vector3d> starts;
+    for (const VoxelKey& k : cluster) starts.push_back(occ.center(k));
+    std::sort(starts.begin(), starts.end(),
+              [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+                return (a - centroid).squaredNorm() < (b - centroid).squaredNorm();
+              });
+    if (starts.size() > kMaxViewpointStarts) starts.resize(kMaxViewpointStarts);
+    const double res = occ.resolution();
+    const int back_steps = static_cast<int>(std::floor(cfg.max_backoff_m / res + 1e-9));
+    const Eigen::Vector3d step(res * away.x(), res * away.y(), 0.0);
     std::optional<Eigen::Vector3d> best;
-    double best_d2 = std::numeric_limits<double>::infinity();
-    for (const VoxelKey& k : cluster) {
-      const Eigen::Vector3d c = occ.center(k);
-      const double d2 = (c - centroid).squaredNorm();
-      if (d2 >= best_d2 || !occ.isSafe(c, cfg.clearance_m, false)) continue;
-      best_d2 = d2;
-      best = c;
-    }
+    for (int s = 0; s <= back_steps && !best; ++s)
+      for (const Eigen::Vector3d& c : starts) {
+        for (const int dz : {0, 1, 2}) {
+          const Eigen::Vector3d p = c + s * step + Eigen::Vector3d(0, 0, dz * res);
+          if (occ.isKnownFree(p, cfg.viewpoint_clearance_m)) {
+            best = p;
+            break;
+          }
+        }
+        if (best) break;
+      }
     if (!best) continue;
-    const Eigen::Vector3d back =
-        *best + occ.resolution() * Eigen::Vector3d(away.x(), away.y(), 0.0);
-    if (occ.isSafe(back, cfg.clearance_m, false)) best = back;
     Opening o;
     // Ids live far above the observation viewpoints' (which count up from 0).
     const size_t h = VoxelKeyHash()(smallest);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <set>
@@ -99,42 +100,52 @@ TEST(ExplorationManager, NoReplanBeforeThePeriodUnlessTheTargetIsReached) {
 }
 
 // A robot that makes no progress toward its target (the local planner found no way there):
-// the target is set aside, the next one gets its turn, and when none is left the manager says
-// it is stuck instead of hovering for ever; set-aside targets come back after the retry time.
-TEST(ExplorationManager, TargetsWithoutProgressAreSetAsideAndComeBack) {
+// the target is set aside and the next one gets its turn. When none is left, what was set aside
+// is tried again at once instead of hovering through the retry time, and a viewpoint that has
+// had unreachable_attempts is given up: the exploration finishes, naming how many were left.
+TEST(ExplorationManager, TargetsWithoutProgressAreRetriedThenGivenUp) {
   const Scene room = corridorRoom();
   ExplorationManagerConfig c;
   c.target_progress_timeout_s = 10.0;
   c.unreachable_retry_s = 5000.0;
+  c.unreachable_attempts = 2;
   ExplorationManager m(c, std::nullopt);
   const Eigen::Vector3d start(2.0, 0.1, 1.6);
   scanFrom(m, room, start);
   ASSERT_EQ(m.update(0.0, at(start)).state, ExplorationState::kExploring);
   const int first = *m.target().goal_viewpoint_id;
   std::vector<std::pair<double, int>> changes;  // (time, new target id)
+  std::map<int, int> turns{{first, 1}};         // how often each viewpoint became the target
   double t = 0.0;
   int last = first;
-  while (t < 4000.0 && m.target().state == ExplorationState::kExploring) {
+  bool retried_early = false;
+  while (t < 4000.0 && m.target().state != ExplorationState::kFinished) {
     t += 0.5;
     m.update(t, at(start));
+    retried_early |= m.target().message.find("retried early") != std::string::npos;
     if (m.target().goal_viewpoint_id && *m.target().goal_viewpoint_id != last) {
       last = *m.target().goal_viewpoint_id;
       changes.emplace_back(t, last);
+      ++turns[last];
     }
   }
   ASSERT_FALSE(changes.empty());
   EXPECT_GE(changes.front().first, 10.0);  // held for the whole timeout ...
   EXPECT_LE(changes.front().first, 11.5);  // ... and not longer
-  std::set<int> ids{first};
-  for (const auto& ch : changes)
-    EXPECT_TRUE(ids.insert(ch.second).second) << "again: " << ch.second;
-  ASSERT_EQ(m.target().state, ExplorationState::kStuck) << m.target().message;
+  ASSERT_EQ(m.target().state, ExplorationState::kFinished) << m.target().message;
+  EXPECT_LT(t, c.unreachable_retry_s);  // the retry time was not waited out
+  EXPECT_TRUE(retried_early);
   EXPECT_FALSE(m.target().has_goal);
-  EXPECT_NE(m.target().message.find("set aside"), std::string::npos) << m.target().message;
-  // After the retry time they are planned for again.
+  // A viewpoint retried right after its own first turn keeps the target without a change.
+  for (const auto& [id, n] : turns) EXPECT_LE(n, c.unreachable_attempts) << "viewpoint " << id;
+  EXPECT_GT(changes.size(), turns.size() - 1);  // some came back for their second attempt
+  EXPECT_EQ(m.inputStats().viewpoints_given_up, turns.size());
+  EXPECT_NE(m.target().message.find(std::to_string(turns.size()) + " left unvisited, given up"),
+            std::string::npos)
+      << m.target().message;
+  // Once finished it stays finished: nothing given up comes back.
   m.update(t + c.unreachable_retry_s + 1.0, at(start));
-  EXPECT_EQ(m.target().state, ExplorationState::kExploring) << m.target().message;
-  EXPECT_TRUE(m.target().has_goal);
+  EXPECT_EQ(m.target().state, ExplorationState::kFinished) << m.target().message;
 
   // Progress keeps a target: moving toward it (0.4 m/s) never sets it aside.
   c.replan_period_s = 0.5;
@@ -197,6 +208,37 @@ TEST(ExplorationManager, AGoalTheLocalPlannerGaveUpOnIsSetAsideAtOnce) {
       EXPECT_GT((m.target().goal_world_m - goal).norm(), 0.5) << "at " << time << " s";
     }
   }
+}
+
+// The ROS graph's endless cycle (seen in mission_wrong_sketch): the local planner gives up on
+// every goal it is sent. Each viewpoint gets unreachable_attempts, the set-aside ones are
+// retried without waiting out the retry time, and the exploration ends, naming the leftovers.
+TEST(ExplorationManager, EveryGoalRefusedEndsTheExplorationWithTheLeftoversNamed) {
+  const Scene room = corridorRoom();
+  ExplorationManagerConfig c;
+  c.unreachable_retry_s = 1e5;
+  c.unreachable_attempts = 2;
+  ExplorationManager m(c, std::nullopt);
+  const Eigen::Vector3d start(2.0, 0.1, 1.6);
+  scanFrom(m, room, start);
+  double time = 0.0;
+  m.update(time, at(start));
+  while (m.target().state != ExplorationState::kFinished && time < 1000.0) {
+    if (m.target().has_goal) {
+      EXPECT_TRUE(m.reportGoalUnreachable(m.target().goal_world_m, time));
+    }
+    time += 0.5;
+    m.update(time, at(start));
+  }
+  ASSERT_EQ(m.target().state, ExplorationState::kFinished) << m.target().message;
+  EXPECT_GT(m.inputStats().viewpoints_given_up, 0u);
+  // At most two refusals each (a viewpoint whose goal lies on a refused one is set aside
+  // without being sent).
+  EXPECT_LE(m.inputStats().goals_refused, 2 * m.inputStats().viewpoints_given_up);
+  EXPECT_NE(m.target().message.find(std::to_string(m.inputStats().viewpoints_given_up) +
+                                    " left unvisited, given up as unreachable after 2"),
+            std::string::npos)
+      << m.target().message;
 }
 
 // A viewpoint beyond max_goal_distance_m reaches the local planner in stages along its path.
@@ -452,6 +494,9 @@ TEST(ExplorationManager, ConfigErrorsNameTheKey) {
   c = ExplorationManagerConfig{};
   c.unreachable_retry_s = -1.0;
   expectKey(c, "unreachable_retry_s");
+  c = {};
+  c.unreachable_attempts = 0;
+  expectKey(c, "unreachable_attempts");
   c = {};
   c.bounds_world_m = Eigen::AlignedBox3d(Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(0, 0, 0));
   expectKey(c, "bounds_world_m");

@@ -26,8 +26,8 @@ OccupancyMap scanned(bool door_open) {
     scene.solids.push_back({{5.0, -4, 0}, {5.3, 4, 3}});
   }
   OccupancyMap occ;
-  for (const Eigen::Vector3d& o : {Eigen::Vector3d(0, 0, 1.5), Eigen::Vector3d(2, -2, 1.2),
-                                  Eigen::Vector3d(2, 2, 1.8)})
+  for (const Eigen::Vector3d& o :
+       {Eigen::Vector3d(0, 0, 1.5), Eigen::Vector3d(2, -2, 1.2), Eigen::Vector3d(2, 2, 1.8)})
     occ.insertScan(o, scene.scanSphere(o, 1.0, 8.0));
   return occ;
 }
@@ -37,13 +37,18 @@ TEST(Openings, ADoorToUnseenSpaceIsAWayOn) {
   const std::vector<Opening> openings = findOpenings(occ, {0, 0, 1.5}, std::nullopt);
   ASSERT_FALSE(openings.empty());
   const Opening& o = openings.front();
-  // Through the door, looking on into the unseen part.
-  EXPECT_GT(o.viewpoint_world_m.x(), 5.0) << o.viewpoint_world_m.transpose();
+  // At the door (through it, or in front of it when the door is too narrow for a known-free
+  // ball), looking on into the unseen part.
+  const OpeningConfig defaults;
+  EXPECT_GT(o.viewpoint_world_m.x(), 5.0 - defaults.max_backoff_m)
+      << o.viewpoint_world_m.transpose();
+  EXPECT_LT(std::abs(o.viewpoint_world_m.y()), 0.6) << o.viewpoint_world_m.transpose();
   EXPECT_GT(std::cos(o.yaw_rad), 0.5) << o.yaw_rad;
-  EXPECT_TRUE(occ.isSafe(o.viewpoint_world_m, OpeningConfig().clearance_m, false));
+  EXPECT_TRUE(occ.isKnownFree(o.viewpoint_world_m, defaults.viewpoint_clearance_m));
   // Off the floor.
   EXPECT_GT(o.viewpoint_world_m.z(), 0.6);
-  for (const Opening& p : openings) EXPECT_GT(p.viewpoint_world_m.x(), 4.5);
+  for (const Opening& p : openings)
+    EXPECT_GT(p.viewpoint_world_m.x(), 5.0 - defaults.max_backoff_m);
   // Stable ids: the same map gives the same openings.
   const std::vector<Opening> again = findOpenings(occ, {0, 0, 1.5}, std::nullopt);
   ASSERT_EQ(again.size(), openings.size());
@@ -62,6 +67,33 @@ TEST(Openings, AClosedRoomHasNoneAndTheBoxEdgeIsNone) {
   EXPECT_TRUE(findOpenings(occ, {-4, 0, 1.5}, std::nullopt, near).empty());
 }
 
+// A sensor that sees nothing more than 20 deg below the horizon (the Mid-360 pitched 15 deg)
+// leaves the floor near it unknown: an opening there borders unknown space below too, and its
+// viewpoint must still be a place to hover, a known-free ball, never a cell above an unseen
+// floor.
+TEST(Openings, ViewpointsAreKnownFreeWhenTheFloorWasNotSeen) {
+  Scene scene;
+  scene.room = {{-5, -4, 0}, {15, 4, 3}};
+  scene.solids.push_back({{5.0, -4, 0}, {5.3, -0.6, 3}});
+  scene.solids.push_back({{5.0, 0.6, 0}, {5.3, 4, 3}});
+  OccupancyMap occ;
+  const double min_elevation = std::sin(-20.0 * M_PI / 180.0);
+  for (const Eigen::Vector3d& o :
+       {Eigen::Vector3d(0, 0, 1.0), Eigen::Vector3d(3.5, 0, 0.9), Eigen::Vector3d(2, 2, 1.1)}) {
+    std::vector<Eigen::Vector3d> seen;
+    for (const Eigen::Vector3d& p : scene.scanSphere(o, 1.0, 8.0))
+      if ((p - o).normalized().z() >= min_elevation) seen.push_back(p);
+    occ.insertScan(o, seen);
+  }
+  const std::vector<Opening> openings = findOpenings(occ, {0, 0, 1.0}, std::nullopt);
+  ASSERT_FALSE(openings.empty());
+  for (const Opening& o : openings) {
+    EXPECT_TRUE(occ.isKnownFree(o.viewpoint_world_m, OpeningConfig().viewpoint_clearance_m))
+        << o.viewpoint_world_m.transpose();
+    EXPECT_GT(o.viewpoint_world_m.z(), 0.5) << o.viewpoint_world_m.transpose();
+  }
+}
+
 TEST(Openings, BadInput) {
   OccupancyMap empty;
   EXPECT_TRUE(findOpenings(empty, {0, 0, 0}, std::nullopt).empty());
@@ -69,6 +101,9 @@ TEST(Openings, BadInput) {
   EXPECT_TRUE(findOpenings(scanned(true), {nan, 0, 0}, std::nullopt).empty());
   OpeningConfig bad;
   bad.min_cells = 0;
+  EXPECT_THROW(findOpenings(empty, {0, 0, 0}, std::nullopt, bad), ConfigError);
+  bad = {};
+  bad.max_backoff_m = -1.0;
   EXPECT_THROW(findOpenings(empty, {0, 0, 0}, std::nullopt, bad), ConfigError);
 }
 

@@ -26,7 +26,6 @@ enum class MissionEnd {
   kExplorationComplete,  ///< the planner found no viewpoint left
   kCollision,            ///< the vehicle touched the world (a failed run)
   kTimeLimit,            ///< time_limit_s reached first
-  kStuck,                ///< viewpoints remain but none is reachable
 };
 const char* toString(MissionEnd end);
 

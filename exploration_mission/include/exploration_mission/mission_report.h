@@ -40,6 +40,7 @@ struct MissionReport {
   std::optional<double> final_scale_ratio;  ///< estimated / true scale of the best hypothesis
   size_t replans = 0, emergency_stops = 0, planner_cycles = 0;
   size_t goals_given_up = 0;
+  size_t viewpoints_given_up = 0;  ///< set aside unreachable_attempts times (never flown to)
   double max_tracking_error_m = 0.0, rms_tracking_error_m = 0.0;
   double min_clearance_m = 0.0;  ///< closest approach of the vehicle centre to the world
   double registration_cpu_s = 0.0, planner_cpu_s = 0.0, trajectory_cpu_s = 0.0;

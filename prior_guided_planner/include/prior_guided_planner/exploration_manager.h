@@ -13,7 +13,13 @@
 // remembered; a re-sampled cluster gets new ids), so the robot never circles one viewpoint whose
 // frontier the scans cannot clear. A far target is handed on in stages along its searched path
 // (max_goal_distance_m), the next stage planned once the robot is half-way to the current one.
-// kFinished when no viewpoint remains, kStuck when viewpoints exist but none is reachable.
+// kFinished when no viewpoint remains, or when the only ones left were given up: a viewpoint set
+// aside unreachable_attempts times (no progress toward it, the local planner found no way, the
+// path search found none) is not planned for again. Set-aside viewpoints come back after
+// unreachable_retry_s, or at once when nothing else is left, so a flight never hovers for ever
+// in front of viewpoints it cannot reach (seen: the ROS planner retrying five viewpoints every
+// minute until the test's time ran out). kStuck is transient: it says the planner found nothing
+// to send this cycle and will look again on the next update.
 #pragma once
 
 #include <Eigen/Core>
@@ -58,6 +64,9 @@ struct ExplorationManagerConfig {
   double target_progress_m = 0.5;
   double target_progress_timeout_s = 10.0;
   double unreachable_retry_s = 60.0;
+  /// A viewpoint set aside this many times is given up for good (counted in
+  /// ExplorationInputStats::viewpoints_given_up and named when the exploration finishes).
+  int unreachable_attempts = 2;
   /// A target viewpoint farther than this horizontally (or max_goal_climb_m vertically) is
   /// handed to the local planner in stages: the point of the searched path at that distance.
   /// The local planner sees a window around the robot only (minco_traj: 24 x 24 x 6 m); a goal
@@ -109,7 +118,8 @@ struct ExplorationInputStats {
   size_t points_dropped_nonfinite = 0;
   size_t updates_rejected = 0;  ///< time going backwards or non-finite time / pose
   size_t hypotheses_rejected = 0;
-  size_t goals_refused = 0;  ///< goals the local planner gave up on (reportGoalUnreachable)
+  size_t goals_refused = 0;        ///< goals the local planner gave up on (reportGoalUnreachable)
+  size_t viewpoints_given_up = 0;  ///< set aside unreachable_attempts times: not planned again
 };
 
 class ExplorationManager {
@@ -172,6 +182,9 @@ class ExplorationManager {
   bool withinGoalReach(const Eigen::Vector3d& from, const Eigen::Vector3d& to) const;
   /// Near a goal the local planner gave up on (reportGoalUnreachable), within its retry time.
   bool refusedGoal(const Eigen::Vector3d& goal_world_m) const;
+  /// Sets viewpoint `id` aside until time_s + unreachable_retry_s; gives it up on its
+  /// unreachable_attempts-th time.
+  void setAside(int id, double time_s);
 
   ExplorationManagerConfig config_;
   std::optional<GuidepointPrior> prior_;
@@ -195,6 +208,10 @@ class ExplorationManager {
   std::map<int, Eigen::Vector3d> opening_look_at_;  ///< per opening viewpoint id
   /// Viewpoints (and openings) set aside as unreachable, until the time given [s].
   std::map<int, double> set_aside_until_s_;
+  /// How often each viewpoint (or opening) was set aside; those set aside unreachable_attempts
+  /// times are given up (kept for the whole flight: a few bytes per viewpoint that ever failed).
+  std::map<int, int> set_aside_count_;
+  std::set<int> given_up_ids_;
   /// Goal points the local planner gave up on, refused until the time given [s]; a goal within
   /// kRefusedGoalRadius_m of one is not sent (the same unreachable place, up to the robot's
   /// motion between plans).

@@ -11,6 +11,10 @@
 // ceiling or floor not seen yet is a surface for the observation map, not a way into new space.
 // Cells right above a floor (two cells) or below a ceiling do not count either (the space under
 // a desk; seen: a collision 0.35 m above an office floor flying to such an opening).
+// The viewpoint is where the vehicle may hover and look through the opening: a known-free ball
+// of viewpoint_clearance_m, stepped back from the opening into the known space when the opening
+// itself borders the unknown. An opening cell can sit right above a floor the LiDAR never saw
+// (seen: a goal 0.15 m above a cave floor, unknown to both maps, and a collision there).
 #pragma once
 
 #include <Eigen/Core>
@@ -25,8 +29,12 @@ namespace efs::planner {
 struct OpeningConfig {
   /// Clusters of fewer opening cells are noise (a shadow behind a post), not a way on.
   int min_cells = 6;
-  /// A viewpoint needs a free ball of this radius (the path search's narrow radius: a door).
-  double clearance_m = 0.1;
+  /// The viewpoint needs a known-free ball of this radius (no occupied and no unknown cell), as
+  /// a surface viewpoint does (ViewpointConfig::clearance_m).
+  double viewpoint_clearance_m = 0.5;
+  /// How far the viewpoint may lie back from the opening, away from the unknown side [m]. An
+  /// opening without such a place within reach gets no viewpoint.
+  double max_backoff_m = 2.0;
   /// Openings beyond this range of the robot are not looked for (bounds the scan) [m].
   double search_radius_m = 60.0;
   void validate() const;
@@ -42,7 +50,8 @@ struct Opening {
 
 /// The openings within search_radius_m of `robot_world_m` (and inside `bounds_world_m` when
 /// given), largest first.
-std::vector<Opening> findOpenings(const OccupancyMap& occupancy, const Eigen::Vector3d& robot_world_m,
+std::vector<Opening> findOpenings(const OccupancyMap& occupancy,
+                                  const Eigen::Vector3d& robot_world_m,
                                   const std::optional<Eigen::AlignedBox3d>& bounds_world_m,
                                   const OpeningConfig& config = {});
 

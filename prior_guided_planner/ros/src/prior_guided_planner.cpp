@@ -56,6 +56,7 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("target_progress_m", e.target_progress_m);
   p.get("target_progress_timeout_s", e.target_progress_timeout_s);
   p.get("unreachable_retry_s", e.unreachable_retry_s);
+  p.get("unreachable_attempts", e.unreachable_attempts);
   p.get("max_goal_distance_m", e.max_goal_distance_m);
   p.get("max_goal_climb_m", e.max_goal_climb_m);
   p.get("tour_lookahead_m", e.tour_lookahead_m);
