@@ -31,6 +31,37 @@ bool keyLess(const VoxelKey& a, const VoxelKey& b) {
   return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z);
 }
 
+/// Where to look through an opening from: the first known-free place (a ball of
+/// viewpoint_clearance_m) stepping back from the opening cells nearest its centre (`starts`)
+/// away from the unknown side, up to max_backoff_m, a cell or two up where a floor was not
+/// seen; failing that, on the way back to the robot from the nearest cell (free space seen from
+/// afar is too sparse for a known-free ball: rays a metre apart 20 m out).
+std::optional<Eigen::Vector3d> hoverPlace(const OccupancyMap& occ,
+                                          const std::vector<Eigen::Vector3d>& starts,
+                                          const Eigen::Vector2d& away, const Eigen::Vector3d& robot,
+                                          const OpeningConfig& cfg) {
+  const double res = occ.resolution();
+  const auto knownFree = [&](const Eigen::Vector3d& p) -> std::optional<Eigen::Vector3d> {
+    for (const int dz : {0, 1, 2}) {
+      const Eigen::Vector3d q = p + Eigen::Vector3d(0, 0, dz * res);
+      if (occ.isKnownFree(q, cfg.viewpoint_clearance_m)) return q;
+    }
+    return std::nullopt;
+  };
+  const int back_steps = static_cast<int>(std::floor(cfg.max_backoff_m / res + 1e-9));
+  const Eigen::Vector3d step(res * away.x(), res * away.y(), 0.0);
+  for (int s = 0; s <= back_steps; ++s)
+    for (const Eigen::Vector3d& c : starts)
+      if (const auto p = knownFree(c + s * step)) return p;
+  if (starts.empty()) return std::nullopt;
+  const Eigen::Vector3d to_robot = robot - starts.front();
+  const int steps = static_cast<int>(std::ceil(to_robot.norm() / res));
+  for (int s = 1; s <= steps; ++s)
+    if (const auto p = knownFree(starts.front() + (static_cast<double>(s) / steps) * to_robot))
+      return p;
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::vector<Opening> findOpenings(const OccupancyMap& occ, const Eigen::Vector3d& robot,
@@ -78,10 +109,6 @@ std::vector<Opening> findOpenings(const OccupancyMap& occ, const Eigen::Vector3d
       if (keyLess(k, smallest)) smallest = k;
     }
     centroid /= static_cast<double>(cluster.size());
-    // The viewpoint: from the cluster cells nearest the centroid, stepping back away from the
-    // unknown side (and a cell or two up, off a floor not seen), the first known-free place.
-    const Eigen::Vector2d away =
-        dir.squaredNorm() > 0.0 ? Eigen::Vector2d(-dir.normalized()) : Eigen::Vector2d::Zero();
     std::vector<Eigen::Vector3d> starts;
     for (const VoxelKey& k : cluster) starts.push_back(occ.center(k));
     std::sort(starts.begin(), starts.end(),
@@ -89,21 +116,9 @@ std::vector<Opening> findOpenings(const OccupancyMap& occ, const Eigen::Vector3d
                 return (a - centroid).squaredNorm() < (b - centroid).squaredNorm();
               });
     if (starts.size() > kMaxViewpointStarts) starts.resize(kMaxViewpointStarts);
-    const double res = occ.resolution();
-    const int back_steps = static_cast<int>(std::floor(cfg.max_backoff_m / res + 1e-9));
-    const Eigen::Vector3d step(res * away.x(), res * away.y(), 0.0);
-    std::optional<Eigen::Vector3d> best;
-    for (int s = 0; s <= back_steps && !best; ++s)
-      for (const Eigen::Vector3d& c : starts) {
-        for (const int dz : {0, 1, 2}) {
-          const Eigen::Vector3d p = c + s * step + Eigen::Vector3d(0, 0, dz * res);
-          if (occ.isKnownFree(p, cfg.viewpoint_clearance_m)) {
-            best = p;
-            break;
-          }
-        }
-        if (best) break;
-      }
+    const Eigen::Vector2d away =
+        dir.squaredNorm() > 0.0 ? Eigen::Vector2d(-dir.normalized()) : Eigen::Vector2d::Zero();
+    const std::optional<Eigen::Vector3d> best = hoverPlace(occ, starts, away, robot, cfg);
     if (!best) continue;
     Opening o;
     // Ids live far above the observation viewpoints' (which count up from 0).

@@ -94,6 +94,23 @@ TEST(Openings, ViewpointsAreKnownFreeWhenTheFloorWasNotSeen) {
   }
 }
 
+// A corridor seen from one end to the sensor's range: the free space 30 m out is a ray every
+// half metre, no room for a known-free ball. The viewpoint is found on the way back toward the
+// robot instead of the opening being dropped (or placed where nothing below was seen).
+TEST(Openings, AFarOpeningSeenSparselyGetsAViewpointOnTheWayBack) {
+  Scene scene;
+  scene.room = {{-1, -3, 0}, {80, 3, 3}};
+  OccupancyMap occ;
+  const Eigen::Vector3d robot(1.0, 0.0, 1.5);
+  occ.insertScan(robot, scene.scanSphere(robot, 1.0, 30.0));
+  const std::vector<Opening> openings = findOpenings(occ, robot, std::nullopt);
+  ASSERT_FALSE(openings.empty());
+  const Opening& o = openings.front();
+  EXPECT_TRUE(occ.isKnownFree(o.viewpoint_world_m, OpeningConfig().viewpoint_clearance_m));
+  EXPECT_GT(o.viewpoint_world_m.x(), robot.x() + 1.0) << o.viewpoint_world_m.transpose();
+  EXPECT_GT(std::cos(o.yaw_rad), 0.5) << o.yaw_rad;  // looking on down the corridor
+}
+
 TEST(Openings, BadInput) {
   OccupancyMap empty;
   EXPECT_TRUE(findOpenings(empty, {0, 0, 0}, std::nullopt).empty());

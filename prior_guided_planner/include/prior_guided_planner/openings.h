@@ -13,7 +13,8 @@
 // a desk; seen: a collision 0.35 m above an office floor flying to such an opening).
 // The viewpoint is where the vehicle may hover and look through the opening: a known-free ball
 // of viewpoint_clearance_m, stepped back from the opening into the known space when the opening
-// itself borders the unknown. An opening cell can sit right above a floor the LiDAR never saw
+// itself borders the unknown, or on the way back to the robot when the free space around the
+// opening was seen only from afar. An opening cell can sit right above a floor the LiDAR never saw
 // (seen: a goal 0.15 m above a cave floor, unknown to both maps, and a collision there).
 #pragma once
 
@@ -32,8 +33,8 @@ struct OpeningConfig {
   /// The viewpoint needs a known-free ball of this radius (no occupied and no unknown cell), as
   /// a surface viewpoint does (ViewpointConfig::clearance_m).
   double viewpoint_clearance_m = 0.5;
-  /// How far the viewpoint may lie back from the opening, away from the unknown side [m]. An
-  /// opening without such a place within reach gets no viewpoint.
+  /// How far the viewpoint is looked for back from the opening, away from the unknown side [m],
+  /// before it is looked for on the way back to the robot.
   double max_backoff_m = 2.0;
   /// Openings beyond this range of the robot are not looked for (bounds the scan) [m].
   double search_radius_m = 60.0;
