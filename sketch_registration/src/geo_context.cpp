@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "efs_common/config_check.h"
 
@@ -43,9 +44,12 @@ void SimilarityWeights::validate() const {
 void computeFeatures(GeoContext& d, const DescriptorConfig& config) {
   const int n = static_cast<int>(d.range_m.size());
   int nonzero = 0;
+  // Clipped, a bin at the range limit saw nothing: only bins inside it describe the place.
+  const float limit = config.clip_to_range ? static_cast<float>(config.max_range_m) * (1.0f - 1e-6f)
+                                           : std::numeric_limits<float>::infinity();
   double sum = 0.0, sum2 = 0.0;
   for (float r : d.range_m) {
-    nonzero += r > 0.0f;
+    nonzero += r > 0.0f && r < limit;
     sum += r;
     sum2 += double(r) * r;
   }
@@ -101,11 +105,13 @@ GeoContext geoContextFromBuffer(const PolarDepthBuffer& buffer, const Descriptor
   GeoContext d;
   d.range_m.assign(static_cast<size_t>(config.num_bins), 0.0f);
   const int m = config.fine_bins_per_bin;
+  // The buffer holds no point beyond max_range_m, so a finite depth needs no clipping.
+  const float beyond = config.clip_to_range ? static_cast<float>(config.max_range_m) : 0.0f;
   for (int i = 0; i < config.num_bins; ++i) {
     float best = 0.0f;
     for (int k = i * m; k < (i + 1) * m; ++k) {
       const float z = buffer.depth(k);
-      if (std::isfinite(z) && z > best) best = z;
+      best = std::max(best, std::isfinite(z) ? z : beyond);
     }
     d.range_m[static_cast<size_t>(i)] = best;
   }
@@ -265,22 +271,30 @@ ShiftMatch bestColumnShift(const GeoContext& prior, const GeoContext& observed, 
   return bestColumnShift(prior.range_m.data(), ShiftTables(observed), try_reversed);
 }
 
-double fftSimilarity(const GeoContext& prior, const GeoContext& observed) {
-  const size_t n = std::min(prior.fft_magnitude.size(), observed.fft_magnitude.size());
+double fftSimilarity(const std::vector<float>& prior, const std::vector<float>& observed) {
+  const size_t n = std::min(prior.size(), observed.size());
   double dot = 0.0, na = 0.0, nb = 0.0;
   for (size_t k = 0; k < n; ++k) {
-    dot += double(prior.fft_magnitude[k]) * observed.fft_magnitude[k];
-    na += double(prior.fft_magnitude[k]) * prior.fft_magnitude[k];
-    nb += double(observed.fft_magnitude[k]) * observed.fft_magnitude[k];
+    dot += double(prior[k]) * observed[k];
+    na += double(prior[k]) * prior[k];
+    nb += double(observed[k]) * observed[k];
   }
   if (!(na > 0.0) || !(nb > 0.0)) return 0.0;
   return std::min(1.0, std::max(0.0, 0.5 * (dot / std::sqrt(na * nb) + 1.0)));
 }
 
-double cvSimilarity(const GeoContext& prior, const GeoContext& observed) {
-  const double sum = prior.cv + observed.cv;
+double fftSimilarity(const GeoContext& prior, const GeoContext& observed) {
+  return fftSimilarity(prior.fft_magnitude, observed.fft_magnitude);
+}
+
+double cvSimilarity(double prior_cv, double observed_cv) {
+  const double sum = prior_cv + observed_cv;
   if (!(sum > 0.0)) return 1.0;  // both perfectly uniform
-  return std::min(1.0, std::max(0.0, 1.0 - std::abs(prior.cv - observed.cv) / sum));
+  return std::min(1.0, std::max(0.0, 1.0 - std::abs(prior_cv - observed_cv) / sum));
+}
+
+double cvSimilarity(const GeoContext& prior, const GeoContext& observed) {
+  return cvSimilarity(prior.cv, observed.cv);
 }
 
 double combineSimilarity(double s_cos, double s_fft, double s_cv, const SimilarityWeights& w) {

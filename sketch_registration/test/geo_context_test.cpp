@@ -144,6 +144,53 @@ TEST(GeoContext, SimilaritiesAreScaleInvariant) {
   EXPECT_NEAR(cvSimilarity(a, b), 1.0, 1e-9);
 }
 
+TEST(GeoContext, ABinPartlyBeyondRangeHoldsTheRangeLimit) {
+  // A pillar 10 m ahead covers a third of bin 0; the rest of the bin sees nothing within 30 m.
+  // Cut at the range, the bin holds 30 m (what lies beyond is at least that far), not the
+  // pillar; a bin the pillar fills holds the pillar either way.
+  Points2d pts;
+  for (double y = -0.12; y <= 0.12; y += 0.02) pts.emplace_back(10.0, y);
+  for (double y = -1.0; y <= 1.0; y += 0.02)
+    pts.emplace_back(10.0 * std::cos(0.5), 10.0 * std::sin(0.5) + y);
+  DescriptorConfig config;
+  config.point_radius_m = 0.02;
+  config.clip_to_range = true;
+  const GeoContext cut = computeGeoContext(pts, Vector2d::Zero(), config);
+  config.clip_to_range = false;
+  const GeoContext plain = computeGeoContext(pts, Vector2d::Zero(), config);
+  const size_t full = static_cast<size_t>(std::lround(0.5 / (2.0 * M_PI / config.num_bins)));
+  EXPECT_NEAR(plain.range_m[0], 10.0, 0.01);
+  EXPECT_FLOAT_EQ(cut.range_m[0], 30.0f);
+  EXPECT_NEAR(cut.range_m[full], plain.range_m[full], 1e-6);
+  EXPECT_LT(cut.range_m[full], 10.5f);
+  // Every other bin saw nothing: 30 m cut, empty plain.
+  EXPECT_FLOAT_EQ(cut.range_m[45], 30.0f);
+  EXPECT_FLOAT_EQ(plain.range_m[45], 0.0f);
+}
+
+TEST(GeoContext, OnlyBinsInsideTheRangeMakeACutDescriptorValid) {
+  // Cut at the range, a place with nothing within it has every bin at the limit: flat, and
+  // describing nothing. It is invalid, like the plain descriptor of no points.
+  DescriptorConfig config;
+  config.min_valid_bins = 6;
+  config.clip_to_range = true;
+  Points2d pts;
+  const double step = 2.0 * M_PI / config.num_bins;
+  // An arc at 5 m over the whole of bin k.
+  const auto arc = [&](int k) {
+    for (double a = (k - 0.5) * step; a <= (k + 0.5) * step; a += 0.002)
+      pts.emplace_back(5.0 * std::cos(a), 5.0 * std::sin(a));
+  };
+  for (int k = 0; k < 5; ++k) arc(k);
+  // One point in each of many other bins: seen, but partly beyond range, so not inside it.
+  for (int k = 20; k < 80; k += 3)
+    pts.emplace_back(5.0 * std::cos(k * step), 5.0 * std::sin(k * step));
+  EXPECT_FALSE(computeGeoContext(pts, Vector2d::Zero(), config).valid);
+  arc(5);
+  EXPECT_TRUE(computeGeoContext(pts, Vector2d::Zero(), config).valid);
+  EXPECT_FALSE(computeGeoContext(Points2d{}, Vector2d::Zero(), config).valid);
+}
+
 TEST(GeoContext, EmptyOrSparseInputIsInvalid) {
   DescriptorConfig config;
   EXPECT_FALSE(computeGeoContext({}, Vector2d::Zero(), config).valid);

@@ -37,6 +37,22 @@ struct DescriptorConfig {
   /// the observation's in world metres; at a true scale above the guess the sketch sees walls
   /// beyond the observation's range, which an empty observed bin would otherwise count against.)
   bool empty_observed_bins_unknown = true;
+  /// A fine (depth-buffer) bin with no boundary within max_range_m counts as max_range_m: each
+  /// bin holds the maximum of min(range, max_range_m) over its fine bins, the descriptor of the
+  /// place as a sensor limited to max_range_m sees it. Without it a bin partly beyond range holds
+  /// the nearest thing in it (a pillar at 24 m), while a sketch that sees 2.5x as far holds the
+  /// wall behind it at 80 m: on the paper garage (true scale 1.64 x the guess) the observed
+  /// bins with every fine bin seen agreed with the true candidate's in 335 of 471 cases, those
+  /// partly beyond range in 66 of 652. A sketch descriptor computed so is cut at any shorter
+  /// range r by min(range, r) (CandidateDatabase's range levels). Then no bin is empty and
+  /// empty_observed_bins_unknown has nothing to act on; a descriptor is valid with
+  /// min_valid_bins bins closer than max_range_m.
+  /// Off by default: a fine bin the observation leaves empty through a hole in its walls (not
+  /// beyond range) then reads max_range_m too. With it (7 scale levels) the paper garage went
+  /// from 12.5 to 87.5 % single-frame success (eta 5 %; deformed 29.2 to 95.8 %), but the small
+  /// worlds fell: garage 100 to 88.3 %, simple cave 99.4 to 97.8 % (true-place S_cos 0.96 to
+  /// 0.76), indoor deformed 98.5 to 88.9 %.
+  bool clip_to_range = false;
 
   void validate() const;
   HprConfig hprConfig() const;
@@ -56,7 +72,7 @@ GeoContext computeGeoContext(const Points2d& points_m, const Eigen::Vector2d& vi
                              const DescriptorConfig& config);
 /// Descriptor from a filled depth buffer (Phase 1 reuses one buffer for all candidates).
 GeoContext geoContextFromBuffer(const PolarDepthBuffer& buffer, const DescriptorConfig& config);
-/// Fills fft_magnitude, cv and valid from range_m.
+/// Fills fft_magnitude, coarse_range_m, cv and valid from range_m.
 void computeFeatures(GeoContext& descriptor, const DescriptorConfig& config);
 
 /// S_inv_cos of two equally long range vectors (no shift), in [0, 1]. `unknown_empty`: an empty
@@ -97,7 +113,11 @@ ShiftMatch bestColumnShiftCoarseToFine(const GeoContext& prior, const ShiftTable
                                        bool try_reversed, int keep);
 
 double fftSimilarity(const GeoContext& prior, const GeoContext& observed);
+/// The same from the two descriptors' fft_magnitude.
+double fftSimilarity(const std::vector<float>& prior, const std::vector<float>& observed);
 double cvSimilarity(const GeoContext& prior, const GeoContext& observed);
+/// The same from the two descriptors' cv.
+double cvSimilarity(double prior_cv, double observed_cv);
 
 struct SimilarityWeights {
   double alpha_cos = 0.4;  ///< alpha_1
