@@ -101,7 +101,11 @@ void computeFeatures(GeoContext& d, const DescriptorConfig& config) {
   }
 }
 
-GeoContext geoContextFromBuffer(const PolarDepthBuffer& buffer, const DescriptorConfig& config) {
+namespace {
+
+/// The descriptor from per-fine-bin ranges (+inf: nothing there, which reads max_range_m with
+/// clip_to_range and leaves the bin empty otherwise).
+GeoContext geoContextFromFine(const float* fine, const DescriptorConfig& config) {
   GeoContext d;
   d.range_m.assign(static_cast<size_t>(config.num_bins), 0.0f);
   const int m = config.fine_bins_per_bin;
@@ -110,7 +114,7 @@ GeoContext geoContextFromBuffer(const PolarDepthBuffer& buffer, const Descriptor
   for (int i = 0; i < config.num_bins; ++i) {
     float best = 0.0f;
     for (int k = i * m; k < (i + 1) * m; ++k) {
-      const float z = buffer.depth(k);
+      const float z = fine[k];
       best = std::max(best, std::isfinite(z) ? z : beyond);
     }
     d.range_m[static_cast<size_t>(i)] = best;
@@ -119,11 +123,43 @@ GeoContext geoContextFromBuffer(const PolarDepthBuffer& buffer, const Descriptor
   return d;
 }
 
+}  // namespace
+
+GeoContext geoContextFromBuffer(const PolarDepthBuffer& buffer, const DescriptorConfig& config) {
+  return geoContextFromFine(buffer.depths().data(), config);
+}
+
 GeoContext computeGeoContext(const Points2d& points_m, const Eigen::Vector2d& viewpoint_m,
                              const DescriptorConfig& config) {
   PolarDepthBuffer buffer(config.hprConfig());
   buffer.splatAll(points_m, viewpoint_m);
   return geoContextFromBuffer(buffer, config);
+}
+
+GeoContext computeObservedGeoContext(const Points2d& walls_m,
+                                     const std::vector<const Points2d*>& seen_m,
+                                     const Eigen::Vector2d& viewpoint_m,
+                                     const DescriptorConfig& config) {
+  PolarDepthBuffer buffer(config.hprConfig());
+  buffer.splatAll(walls_m, viewpoint_m);
+  if (!config.clip_to_range) return geoContextFromBuffer(buffer, config);
+  // 0 = nothing seen in the fine bin: unknown, it does not raise its bin's maximum.
+  std::vector<float> fine(buffer.depths().size(), 0.0f);
+  const float limit = static_cast<float>(config.max_range_m);
+  for (const Points2d* points : seen_m) {
+    for (const Eigen::Vector2d& p : *points) {
+      const Eigen::Vector2d d = p - viewpoint_m;
+      const double r = d.norm();
+      if (!(r >= config.min_range_m)) continue;
+      float& f = fine[static_cast<size_t>(buffer.fineBin(d.x(), d.y()))];
+      f = std::max(f, std::min(static_cast<float>(r), limit));
+    }
+  }
+  for (size_t k = 0; k < fine.size(); ++k) {
+    if (std::isfinite(buffer.depth(static_cast<int>(k))))
+      fine[k] = buffer.depth(static_cast<int>(k));
+  }
+  return geoContextFromFine(fine.data(), config);
 }
 
 namespace {

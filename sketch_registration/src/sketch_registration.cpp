@@ -230,7 +230,8 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
                                   config_.descriptor.max_range_m);
   diag.descriptor_points = obs.descriptor_m.size();
   const DescriptorConfig odc = observationDescriptorConfig(config_);
-  diag.descriptor = computeGeoContext(obs.descriptor_m, robot_xy, odc);
+  diag.descriptor = computeObservedGeoContext(
+      obs.descriptor_m, {&obs.map.points_m, &obs.map.passage_m, &obs.map.other_m}, robot_xy, odc);
   result_.last_frame = diag;
   if (!diag.descriptor.valid) {
     std::ostringstream os;

@@ -92,6 +92,7 @@ TEST(Retrieval, EmptyObservedBinsCountAsUnseen) {
   const syn::Scenario sc = hallAt(Sim2(0.7, 1.6, Vector2d(12.0, -5.0)));
   DescriptorConfig sketch_config;
   sketch_config.max_range_m = 75.0;
+  sketch_config.clip_to_range = false;  // empty bins exist only uncut
   sketch_config.empty_observed_bins_unknown = true;
   const double unseen = topFiveShare(sc, sketch_config, 30.0);
   sketch_config.empty_observed_bins_unknown = false;
@@ -189,14 +190,15 @@ TEST(Retrieval, SketchSeesAsFarAsTheObservationAtTheSmallestScale) {
   // 24 x 20 m world would be missing from the sketch's descriptor.
   const syn::Scenario sc = hallAt(Sim2(0.7, 0.6, Vector2d(12.0, -5.0)));
   SketchRegistrationConfig config;  // scale_guess 1, tolerance 2.5, descriptor range 30 m
-  DescriptorConfig sketch_config = sketchDescriptorConfig(config);
-  EXPECT_DOUBLE_EQ(sketch_config.max_range_m, 75.0);
-  // Cut at the range levels, one of which lies near 30 / 0.6 = 50 sketch metres.
-  DescriptorConfig cut = sketch_config;
-  cut.clip_to_range = true;
+  DescriptorConfig cut = sketchDescriptorConfig(config);
+  EXPECT_DOUBLE_EQ(cut.max_range_m, 75.0);
+  // Cut at the range levels (the default), one of which lies near 30 / 0.6 = 50 sketch metres.
+  ASSERT_TRUE(cut.clip_to_range);
   EXPECT_GE(topFiveShare(sc, cut, 30.0, sketchRangeLevelsM(config)), 0.9);
   // Not cut (empty observed bins unseen), the sketch must see at least as far as the
   // observation, hence its 75 sketch metres.
+  DescriptorConfig sketch_config = cut;
+  sketch_config.clip_to_range = false;
   const double derived = topFiveShare(sc, sketch_config, 30.0);
   DescriptorConfig at_guess = sketch_config;
   at_guess.max_range_m = 30.0;

@@ -168,6 +168,48 @@ TEST(GeoContext, ABinPartlyBeyondRangeHoldsTheRangeLimit) {
   EXPECT_FLOAT_EQ(plain.range_m[45], 0.0f);
 }
 
+TEST(GeoContext, AHoleInTheObservedWallsReadsTheFarthestSeenNotTheRange) {
+  // Walls on a circle of 10 m with three 20 degree gaps. Through the gap at 0 deg the floor is
+  // seen up to 9.8 m (a hole in the walls, not open space); through the gap at 90 deg a wall 35 m
+  // away is seen (open beyond the 30 m range); through the gap at 180 deg nothing is seen.
+  DescriptorConfig config;
+  config.point_radius_m = 0.05;
+  ASSERT_TRUE(config.clip_to_range);
+  const double half_gap = 10.0 * M_PI / 180.0;
+  const auto inGap = [&](double a) {
+    for (double c : {0.0, 0.5 * M_PI, M_PI}) {
+      if (std::abs(std::remainder(a - c, 2.0 * M_PI)) < half_gap) return true;
+    }
+    return false;
+  };
+  Points2d walls, beyond, floor;
+  for (double a = -M_PI; a < M_PI; a += 0.002) {
+    if (!inGap(a)) walls.emplace_back(10.0 * std::cos(a), 10.0 * std::sin(a));
+  }
+  for (double a = 0.5 * M_PI - half_gap; a < 0.5 * M_PI + half_gap; a += 0.002)
+    beyond.emplace_back(35.0 * std::cos(a), 35.0 * std::sin(a));
+  for (double a = -half_gap; a < half_gap; a += 0.002) {
+    for (double r = 1.0; r <= 9.8 + 1e-9; r += 0.2)
+      floor.emplace_back(r * std::cos(a), r * std::sin(a));
+  }
+  const GeoContext obs =
+      computeObservedGeoContext(walls, {&walls, &beyond, &floor}, Vector2d::Zero(), config);
+  const GeoContext walls_only = computeGeoContext(walls, Vector2d::Zero(), config);
+  const int quarter = config.num_bins / 4;
+  EXPECT_NEAR(obs.range_m[0], 9.8, 0.05);
+  EXPECT_FLOAT_EQ(walls_only.range_m[0], 30.0f);  // a hole read as open space
+  EXPECT_FLOAT_EQ(obs.range_m[static_cast<size_t>(quarter)], 30.0f);
+  EXPECT_FLOAT_EQ(obs.range_m[static_cast<size_t>(2 * quarter)], 0.0f);  // unknown
+  EXPECT_FLOAT_EQ(walls_only.range_m[static_cast<size_t>(2 * quarter)], 30.0f);
+  EXPECT_NEAR(obs.range_m[static_cast<size_t>(quarter / 2)], 10.0, 0.05);
+  EXPECT_TRUE(obs.valid);
+  // Without the cut the seen points change nothing.
+  config.clip_to_range = false;
+  EXPECT_EQ(
+      computeObservedGeoContext(walls, {&walls, &beyond, &floor}, Vector2d::Zero(), config).range_m,
+      computeGeoContext(walls, Vector2d::Zero(), config).range_m);
+}
+
 TEST(GeoContext, OnlyBinsInsideTheRangeMakeACutDescriptorValid) {
   // Cut at the range, a place with nothing within it has every bin at the limit: flat, and
   // describing nothing. It is invalid, like the plain descriptor of no points.

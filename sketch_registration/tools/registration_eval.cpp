@@ -45,7 +45,7 @@
 // --kept-fitness-threshold-m, --kept-min-inlier-ratio, --inlier-distance-m, --slice-min-dz-m,
 // --slice-max-dz-m, --wall-columns 0|1, --column-cell-m, --wall-min-height-m, --wall-max-gap-m,
 // --icp-range-m, --max-range-m, --unknown-empty-bins 0|1, --clip-to-range 0|1, --scale-levels,
-// --settled-coverage, --coverage-weight-m, --history 0|1.
+// --sketch-point-radius-m, --settled-coverage, --coverage-weight-m, --history 0|1.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -955,6 +955,7 @@ Options parse(int argc, char** argv) {
                         "unknown-empty-bins",
                         "clip-to-range",
                         "scale-levels",
+                        "sketch-point-radius-m",
                         "settled-coverage",
                         "coverage-weight-m",
                         "history"}) {
@@ -1032,6 +1033,8 @@ Options parse(int argc, char** argv) {
       args.integer("clip-to-range", o.registration.descriptor.clip_to_range ? 1 : 0) != 0;
   o.registration.scale_levels =
       static_cast<int>(args.integer("scale-levels", o.registration.scale_levels));
+  o.registration.sketch_point_radius_m =
+      args.number("sketch-point-radius-m", o.registration.sketch_point_radius_m);
   o.registration.settled_coverage =
       args.number("settled-coverage", o.registration.settled_coverage);
   o.registration.coverage_weight_m =

@@ -91,11 +91,16 @@ struct SketchRegistrationConfig {
   /// 96-100 % with the cut 0.85-1.2 x the true one and fell to 63 % at 1.64 x; 7 levels are
   /// 1.36 x apart, so the nearest is at most 1.17 x off.
   int scale_levels = 7;
-  DescriptorConfig descriptor;         ///< max_range_m / point_radius_m in world metres
-  double sketch_point_radius_m = 0.1;  ///< half the sketch point spacing (sketch metres)
-  RetrievalConfig retrieval;           ///< eta, alphas, downsampling
-  VerifierConfig verifier;             ///< its scale and reflection fields are set from here
-  ScaleIcpConfig icp;                  ///< its scale bounds are set from here
+  DescriptorConfig descriptor;  ///< max_range_m / point_radius_m in world metres
+  /// The angle a sketch point occludes and covers in the depth buffer (sketch metres). Thinning
+  /// leaves gaps of up to twice boundary_spacing_m between points; with clip_to_range a fine bin
+  /// left empty between two points of one wall reads the range limit. 0.1 (half the spacing):
+  /// paper garage precise 87.5 % single-frame, indoor deformed 96.3 %; 0.15: 100 % and 97.8 %;
+  /// 0.2: 95.8 % and 97.0 % (eta 5 %).
+  double sketch_point_radius_m = 0.15;
+  RetrievalConfig retrieval;  ///< eta, alphas, downsampling
+  VerifierConfig verifier;    ///< its scale and reflection fields are set from here
+  ScaleIcpConfig icp;         ///< its scale bounds are set from here
   ObservationConfig observation;
   ObservationHistoryConfig history;
   /// The joint (window + remembered walls) refinement replaces the window's own one unless it
