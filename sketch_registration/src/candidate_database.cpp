@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <queue>
+#include <set>
 #include <unordered_map>
 
 #include "efs_common/config_check.h"
@@ -78,9 +78,17 @@ struct BucketGrid {
 }  // namespace
 
 CandidateDatabase::CandidateDatabase(const Points2d& sketch_points_m, Points2d candidates_m,
-                                     const DescriptorConfig& config)
-    : config_(config) {
+                                     const DescriptorConfig& config,
+                                     std::vector<double> range_levels_m)
+    : config_(config), levels_m_(std::move(range_levels_m)) {
   config_.validate();
+  // Unclipped, a bin's maximum over fine bins cannot be cut at a shorter range afterwards.
+  if (levels_m_.empty() || !config_.clip_to_range) levels_m_ = {config_.max_range_m};
+  for (double r : levels_m_) {
+    requireThat(r > config_.min_range_m && r <= config_.max_range_m, "range_levels_m",
+                "each must be in (min_range_m, max_range_m]");
+  }
+  std::sort(levels_m_.begin(), levels_m_.end(), std::greater<double>());
   Points2d finite_points;
   finite_points.reserve(sketch_points_m.size());
   for (const auto& p : sketch_points_m) {
@@ -92,44 +100,91 @@ CandidateDatabase::CandidateDatabase(const Points2d& sketch_points_m, Points2d c
   descriptors_.resize(locations_.size());
   if (finite_points.empty()) {
     for (auto& d : descriptors_) d.range_m.assign(static_cast<size_t>(config_.num_bins), 0.0f);
-    return;
-  }
-  const double cell = std::max(1.0, config_.max_range_m / 8.0);
-  const BucketGrid grid(finite_points, cell);
-  PolarDepthBuffer buffer(config_.hprConfig());
-  const int reach = static_cast<int>(std::ceil(config_.max_range_m / cell));
-  for (size_t j = 0; j < locations_.size(); ++j) {
-    buffer.reset();
-    const Eigen::Vector2d& c = locations_[j];
-    const int cx = static_cast<int>(std::floor((c.x() - grid.origin.x()) / cell));
-    const int cy = static_cast<int>(std::floor((c.y() - grid.origin.y()) / cell));
-    for (int iy = std::max(0, cy - reach); iy <= std::min(grid.ny - 1, cy + reach); ++iy) {
-      for (int ix = std::max(0, cx - reach); ix <= std::min(grid.nx - 1, cx + reach); ++ix) {
-        const int cidx = iy * grid.nx + ix;
-        for (int k = grid.start[static_cast<size_t>(cidx)];
-             k < grid.start[static_cast<size_t>(cidx) + 1]; ++k) {
-          const Eigen::Vector2f& p = grid.pts[static_cast<size_t>(k)];
-          buffer.splat(p.x() - c.x(), p.y() - c.y());
+  } else {
+    const double cell = std::max(1.0, config_.max_range_m / 8.0);
+    const BucketGrid grid(finite_points, cell);
+    PolarDepthBuffer buffer(config_.hprConfig());
+    const int reach = static_cast<int>(std::ceil(config_.max_range_m / cell));
+    for (size_t j = 0; j < locations_.size(); ++j) {
+      buffer.reset();
+      const Eigen::Vector2d& c = locations_[j];
+      const int cx = static_cast<int>(std::floor((c.x() - grid.origin.x()) / cell));
+      const int cy = static_cast<int>(std::floor((c.y() - grid.origin.y()) / cell));
+      for (int iy = std::max(0, cy - reach); iy <= std::min(grid.ny - 1, cy + reach); ++iy) {
+        for (int ix = std::max(0, cx - reach); ix <= std::min(grid.nx - 1, cx + reach); ++ix) {
+          const int cidx = iy * grid.nx + ix;
+          for (int k = grid.start[static_cast<size_t>(cidx)];
+               k < grid.start[static_cast<size_t>(cidx) + 1]; ++k) {
+            const Eigen::Vector2f& p = grid.pts[static_cast<size_t>(k)];
+            buffer.splat(p.x() - c.x(), p.y() - c.y());
+          }
         }
       }
+      descriptors_[j] = geoContextFromBuffer(buffer, config_);
     }
-    descriptors_[j] = geoContextFromBuffer(buffer, config_);
-    valid_count_ += descriptors_[j].valid;
+  }
+  // The shift-invariant features of every level, so that retrieval can bound each (candidate,
+  // level) before the costly shift search.
+  level_features_.resize(locations_.size() * levels_m_.size());
+  for (size_t j = 0; j < locations_.size(); ++j) {
+    bool any = false;
+    for (int l = 0; l < static_cast<int>(levels_m_.size()); ++l) {
+      const GeoContext d = descriptorAtLevel(j, l);
+      LevelFeatures& f = level_features_[j * levels_m_.size() + static_cast<size_t>(l)];
+      f.fft_magnitude = d.fft_magnitude;
+      f.cv = d.cv;
+      f.valid = d.valid;
+      any |= d.valid;
+    }
+    valid_count_ += any;
   }
 }
 
-Candidate CandidateDatabase::score(size_t i, const GeoContext& observed, const ShiftTables& tables,
-                                   const SimilarityWeights& w, bool try_reversed) const {
+namespace {
+/// `base` cut at range r: min(range, r) per bin. The maximum over a bin's fine bins commutes
+/// with the cut, so the coarse (max-pooled) descriptor is cut alike.
+void cutAt(const GeoContext& base, double r, GeoContext& out) {
+  const float rf = static_cast<float>(r);
+  out.range_m.resize(base.range_m.size());
+  for (size_t i = 0; i < base.range_m.size(); ++i) out.range_m[i] = std::min(base.range_m[i], rf);
+  out.coarse_range_m.resize(base.coarse_range_m.size());
+  for (size_t i = 0; i < base.coarse_range_m.size(); ++i) {
+    out.coarse_range_m[i] = std::min(base.coarse_range_m[i], rf);
+  }
+}
+}  // namespace
+
+GeoContext CandidateDatabase::descriptorAtLevel(size_t i, int l) const {
+  GeoContext d;
+  cutAt(descriptors_[i], levels_m_[static_cast<size_t>(l)], d);
+  DescriptorConfig c = config_;
+  c.max_range_m = levels_m_[static_cast<size_t>(l)];
+  computeFeatures(d, c);
+  return d;
+}
+
+double CandidateDatabase::bound(size_t i, int l, const GeoContext& observed,
+                                const SimilarityWeights& w) const {
+  const LevelFeatures& f = level(i, l);
+  const double s_cv = cvSimilarity(f.cv, observed.cv);
+  return combineSimilarity(1.0, fftSimilarity(f.fft_magnitude, observed.fft_magnitude), s_cv, w);
+}
+
+Candidate CandidateDatabase::score(size_t i, int l, const GeoContext& observed,
+                                   const ShiftTables& tables, const SimilarityWeights& w,
+                                   bool try_reversed, GeoContext& scratch) const {
   Candidate c;
   c.index = static_cast<int>(i);
   c.c_sketch = locations_[i];
-  const GeoContext& d = descriptors_[i];
-  if (!d.valid || !observed.valid) return c;
+  c.range_level = l;
+  const LevelFeatures& f = level(i, l);
+  if (!f.valid || !observed.valid) return c;
+  cutAt(descriptors_[i], levels_m_[static_cast<size_t>(l)], scratch);
   const ShiftMatch m =
-      bestColumnShiftCoarseToFine(d, tables, try_reversed, config_.coarse_shift_keep);
+      bestColumnShiftCoarseToFine(scratch, tables, try_reversed, config_.coarse_shift_keep);
   c.s_cos = m.score;
-  c.s_fft = fftSimilarity(d, observed);
-  c.s_cv = cvSimilarity(d, observed);
+  c.s_fft = fftSimilarity(f.fft_magnitude, observed.fft_magnitude);
+  c.s_cv = cvSimilarity(f.cv, observed.cv);
   c.score = combineSimilarity(c.s_cos, c.s_fft, c.s_cv, w);
   c.yaw_rad = m.yaw_rad;
   c.reflected = m.reversed;
@@ -144,8 +199,16 @@ std::vector<Candidate> CandidateDatabase::scoreAll(const GeoContext& observed,
     return out;
   }
   const ShiftTables tables(observed, config_.empty_observed_bins_unknown);
+  GeoContext scratch;
   out.reserve(size());
-  for (size_t i = 0; i < size(); ++i) out.push_back(score(i, observed, tables, w, try_reversed));
+  for (size_t i = 0; i < size(); ++i) {
+    Candidate best = score(i, 0, observed, tables, w, try_reversed, scratch);
+    for (int l = 1; l < static_cast<int>(levels_m_.size()); ++l) {
+      const Candidate c = score(i, l, observed, tables, w, try_reversed, scratch);
+      if (c.score > best.score) best = c;
+    }
+    out.push_back(best);
+  }
   std::stable_sort(out.begin(), out.end(),
                    [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
   return out;
@@ -159,39 +222,48 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
       observed.range_m.size() != static_cast<size_t>(config_.num_bins)) {
     return out;
   }
-  // Upper bound of S with S_cos <= 1; visit in decreasing bound, stop once the bound cannot beat
-  // the k-th best exact score.
-  std::vector<std::pair<double, int>> bound;
-  bound.reserve(size());
+  // Upper bound of S with S_cos <= 1 for every (candidate, level); visit in decreasing bound, stop
+  // once the bound cannot beat the k-th best candidate's exact score (its best level).
+  struct Bound {
+    double value;
+    int index, level;
+  };
+  std::vector<Bound> bounds;
+  bounds.reserve(size() * levels_m_.size());
   for (size_t i = 0; i < size(); ++i) {
-    const GeoContext& d = descriptors_[i];
-    if (!d.valid) continue;
-    bound.emplace_back(
-        combineSimilarity(1.0, fftSimilarity(d, observed), cvSimilarity(d, observed), w),
-        static_cast<int>(i));
-  }
-  std::sort(bound.begin(), bound.end(), [](const auto& a, const auto& b) {
-    return a.first > b.first || (a.first == b.first && a.second < b.second);
-  });
-  const ShiftTables tables(observed, config_.empty_observed_bins_unknown);
-  auto worse = [](const Candidate& a, const Candidate& b) { return a.score > b.score; };
-  std::priority_queue<Candidate, std::vector<Candidate>, decltype(worse)> heap(worse);
-  for (const auto& [ub, i] : bound) {
-    if (heap.size() >= k && ub <= heap.top().score) break;
-    Candidate c = score(static_cast<size_t>(i), observed, tables, w, try_reversed);
-    if (heap.size() < k) {
-      heap.push(c);
-    } else if (c.score > heap.top().score) {
-      heap.pop();
-      heap.push(c);
+    for (int l = 0; l < static_cast<int>(levels_m_.size()); ++l) {
+      if (level(i, l).valid) bounds.push_back({bound(i, l, observed, w), static_cast<int>(i), l});
     }
   }
-  out.reserve(heap.size());
-  while (!heap.empty()) {
-    out.push_back(heap.top());
-    heap.pop();
+  std::sort(bounds.begin(), bounds.end(), [](const Bound& a, const Bound& b) {
+    return a.value > b.value ||
+           (a.value == b.value && (a.index < b.index || (a.index == b.index && a.level < b.level)));
+  });
+  const ShiftTables tables(observed, config_.empty_observed_bins_unknown);
+  GeoContext scratch;
+  std::vector<Candidate> best(size());
+  std::vector<char> scored(size(), 0);
+  std::set<std::pair<double, int>> top;  // the k best (score, index), ascending
+  for (const Bound& b : bounds) {
+    if (top.size() >= k && b.value <= top.begin()->first) break;
+    const size_t i = static_cast<size_t>(b.index);
+    Candidate c = score(i, b.level, observed, tables, w, try_reversed, scratch);
+    if (scored[i]) {
+      if (!(c.score > best[i].score)) continue;
+      top.erase({best[i].score, b.index});  // absent when it was trimmed: no-op
+    }
+    scored[i] = 1;
+    best[i] = c;
+    top.emplace(c.score, b.index);
+    if (top.size() > k) top.erase(top.begin());
   }
-  std::reverse(out.begin(), out.end());
+  out.reserve(top.size());
+  for (auto it = top.rbegin(); it != top.rend(); ++it) {
+    out.push_back(best[static_cast<size_t>(it->second)]);
+  }
+  std::stable_sort(out.begin(), out.end(), [](const Candidate& a, const Candidate& b) {
+    return a.score > b.score || (a.score == b.score && a.index < b.index);
+  });
   return out;
 }
 

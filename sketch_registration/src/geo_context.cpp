@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "efs_common/config_check.h"
 
@@ -43,9 +44,12 @@ void SimilarityWeights::validate() const {
 void computeFeatures(GeoContext& d, const DescriptorConfig& config) {
   const int n = static_cast<int>(d.range_m.size());
   int nonzero = 0;
+  // Clipped, a bin at the range limit saw nothing: only bins inside it describe the place.
+  const float limit = config.clip_to_range ? static_cast<float>(config.max_range_m) * (1.0f - 1e-6f)
+                                           : std::numeric_limits<float>::infinity();
   double sum = 0.0, sum2 = 0.0;
   for (float r : d.range_m) {
-    nonzero += r > 0.0f;
+    nonzero += r > 0.0f && r < limit;
     sum += r;
     sum2 += double(r) * r;
   }
@@ -97,15 +101,21 @@ void computeFeatures(GeoContext& d, const DescriptorConfig& config) {
   }
 }
 
-GeoContext geoContextFromBuffer(const PolarDepthBuffer& buffer, const DescriptorConfig& config) {
+namespace {
+
+/// The descriptor from per-fine-bin ranges (+inf: nothing there, which reads max_range_m with
+/// clip_to_range and leaves the bin empty otherwise).
+GeoContext geoContextFromFine(const float* fine, const DescriptorConfig& config) {
   GeoContext d;
   d.range_m.assign(static_cast<size_t>(config.num_bins), 0.0f);
   const int m = config.fine_bins_per_bin;
+  // The buffer holds no point beyond max_range_m, so a finite depth needs no clipping.
+  const float beyond = config.clip_to_range ? static_cast<float>(config.max_range_m) : 0.0f;
   for (int i = 0; i < config.num_bins; ++i) {
     float best = 0.0f;
     for (int k = i * m; k < (i + 1) * m; ++k) {
-      const float z = buffer.depth(k);
-      if (std::isfinite(z) && z > best) best = z;
+      const float z = fine[k];
+      best = std::max(best, std::isfinite(z) ? z : beyond);
     }
     d.range_m[static_cast<size_t>(i)] = best;
   }
@@ -113,11 +123,43 @@ GeoContext geoContextFromBuffer(const PolarDepthBuffer& buffer, const Descriptor
   return d;
 }
 
+}  // namespace
+
+GeoContext geoContextFromBuffer(const PolarDepthBuffer& buffer, const DescriptorConfig& config) {
+  return geoContextFromFine(buffer.depths().data(), config);
+}
+
 GeoContext computeGeoContext(const Points2d& points_m, const Eigen::Vector2d& viewpoint_m,
                              const DescriptorConfig& config) {
   PolarDepthBuffer buffer(config.hprConfig());
   buffer.splatAll(points_m, viewpoint_m);
   return geoContextFromBuffer(buffer, config);
+}
+
+GeoContext computeObservedGeoContext(const Points2d& walls_m,
+                                     const std::vector<const Points2d*>& seen_m,
+                                     const Eigen::Vector2d& viewpoint_m,
+                                     const DescriptorConfig& config) {
+  PolarDepthBuffer buffer(config.hprConfig());
+  buffer.splatAll(walls_m, viewpoint_m);
+  if (!config.clip_to_range) return geoContextFromBuffer(buffer, config);
+  // 0 = nothing seen in the fine bin: unknown, it does not raise its bin's maximum.
+  std::vector<float> fine(buffer.depths().size(), 0.0f);
+  const float limit = static_cast<float>(config.max_range_m);
+  for (const Points2d* points : seen_m) {
+    for (const Eigen::Vector2d& p : *points) {
+      const Eigen::Vector2d d = p - viewpoint_m;
+      const double r = d.norm();
+      if (!(r >= config.min_range_m)) continue;
+      float& f = fine[static_cast<size_t>(buffer.fineBin(d.x(), d.y()))];
+      f = std::max(f, std::min(static_cast<float>(r), limit));
+    }
+  }
+  for (size_t k = 0; k < fine.size(); ++k) {
+    if (std::isfinite(buffer.depth(static_cast<int>(k))))
+      fine[k] = buffer.depth(static_cast<int>(k));
+  }
+  return geoContextFromFine(fine.data(), config);
 }
 
 namespace {
@@ -265,22 +307,30 @@ ShiftMatch bestColumnShift(const GeoContext& prior, const GeoContext& observed, 
   return bestColumnShift(prior.range_m.data(), ShiftTables(observed), try_reversed);
 }
 
-double fftSimilarity(const GeoContext& prior, const GeoContext& observed) {
-  const size_t n = std::min(prior.fft_magnitude.size(), observed.fft_magnitude.size());
+double fftSimilarity(const std::vector<float>& prior, const std::vector<float>& observed) {
+  const size_t n = std::min(prior.size(), observed.size());
   double dot = 0.0, na = 0.0, nb = 0.0;
   for (size_t k = 0; k < n; ++k) {
-    dot += double(prior.fft_magnitude[k]) * observed.fft_magnitude[k];
-    na += double(prior.fft_magnitude[k]) * prior.fft_magnitude[k];
-    nb += double(observed.fft_magnitude[k]) * observed.fft_magnitude[k];
+    dot += double(prior[k]) * observed[k];
+    na += double(prior[k]) * prior[k];
+    nb += double(observed[k]) * observed[k];
   }
   if (!(na > 0.0) || !(nb > 0.0)) return 0.0;
   return std::min(1.0, std::max(0.0, 0.5 * (dot / std::sqrt(na * nb) + 1.0)));
 }
 
-double cvSimilarity(const GeoContext& prior, const GeoContext& observed) {
-  const double sum = prior.cv + observed.cv;
+double fftSimilarity(const GeoContext& prior, const GeoContext& observed) {
+  return fftSimilarity(prior.fft_magnitude, observed.fft_magnitude);
+}
+
+double cvSimilarity(double prior_cv, double observed_cv) {
+  const double sum = prior_cv + observed_cv;
   if (!(sum > 0.0)) return 1.0;  // both perfectly uniform
-  return std::min(1.0, std::max(0.0, 1.0 - std::abs(prior.cv - observed.cv) / sum));
+  return std::min(1.0, std::max(0.0, 1.0 - std::abs(prior_cv - observed_cv) / sum));
+}
+
+double cvSimilarity(const GeoContext& prior, const GeoContext& observed) {
+  return cvSimilarity(prior.cv, observed.cv);
 }
 
 double combineSimilarity(double s_cos, double s_fft, double s_cv, const SimilarityWeights& w) {

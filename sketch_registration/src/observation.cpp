@@ -77,7 +77,11 @@ ProjectedMap observeLocalMap(const Points3d& local_map, const Eigen::Vector3d& r
       out.passage_m.push_back(centre);
       continue;
     }
-    if (c.z_m.back() - c.z_m.front() >= config.wall_min_height_m) out.points_m.push_back(centre);
+    if (c.z_m.back() - c.z_m.front() >= config.wall_min_height_m) {
+      out.points_m.push_back(centre);
+    } else {
+      out.other_m.push_back(centre);
+    }
   }
   return out;
 }

@@ -43,6 +43,7 @@ void SketchRegistrationConfig::validate() const {
   requirePositive("d_gap_m", d_gap_m);
   requirePositive("scale_guess", scale_guess);
   requireInRange("scale_tolerance_factor", scale_tolerance_factor, 1.0, 1e3);
+  requireInRange("scale_levels", scale_levels, 1, 64);
   requireInRange("sketch_point_radius_m", sketch_point_radius_m, 0.0, 100.0);
   requirePositive("fitness_threshold_m", fitness_threshold_m);
   requireThat(kept_fitness_threshold_m >= fitness_threshold_m, "kept_fitness_threshold_m",
@@ -87,6 +88,21 @@ DescriptorConfig sketchDescriptorConfig(const SketchRegistrationConfig& c) {
   d.min_range_m = c.descriptor.min_range_m / c.scale_guess;
   d.point_radius_m = c.sketch_point_radius_m;
   return d;
+}
+
+std::vector<double> sketchRangeLevelsM(const SketchRegistrationConfig& c) {
+  // Scale s_g f^(1 - 2l/(L-1)), l = 0..L-1: the range limit R / s from R f / s_g down to
+  // R / (s_g f). One level: the scale guess.
+  const int n = c.scale_levels;
+  const double r = c.descriptor.max_range_m / c.scale_guess;
+  std::vector<double> levels;
+  for (int l = 0; l < n; ++l) {
+    const double e = n > 1 ? 1.0 - 2.0 * l / (n - 1) : 0.0;
+    // Never past the descriptor's own range (the same product, rounded another way).
+    levels.push_back(
+        std::min(r * std::pow(c.scale_tolerance_factor, e), sketchDescriptorConfig(c).max_range_m));
+  }
+  return levels;
 }
 
 DescriptorConfig observationDescriptorConfig(const SketchRegistrationConfig& c) {
@@ -140,7 +156,8 @@ SketchRegistration::SketchRegistration(const Config& config, Points2d sketch_bou
   for (const auto& p : sketch_boundary_m) {
     if (p.allFinite()) sketch_.push_back(p);
   }
-  database_ = CandidateDatabase(sketch_, std::move(candidates_m), sketchDescriptorConfig(config_));
+  database_ = CandidateDatabase(sketch_, std::move(candidates_m), sketchDescriptorConfig(config_),
+                                sketchRangeLevelsM(config_));
   icp_ = std::make_unique<ScaleIcp>(sketch_, scaleIcpConfig(config_));
 }
 
@@ -213,7 +230,8 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
                                   config_.descriptor.max_range_m);
   diag.descriptor_points = obs.descriptor_m.size();
   const DescriptorConfig odc = observationDescriptorConfig(config_);
-  diag.descriptor = computeGeoContext(obs.descriptor_m, robot_xy, odc);
+  diag.descriptor = computeObservedGeoContext(
+      obs.descriptor_m, {&obs.map.points_m, &obs.map.passage_m, &obs.map.other_m}, robot_xy, odc);
   result_.last_frame = diag;
   if (!diag.descriptor.valid) {
     std::ostringstream os;

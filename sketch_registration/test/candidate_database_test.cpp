@@ -5,6 +5,9 @@
 // scale between them is unknown (within the scale tolerance).
 #include <gtest/gtest.h>
 
+#include <utility>
+#include <vector>
+
 #include "sketch_registration/candidate_database.h"
 #include "sketch_registration/sketch_registration.h"
 #include "sketch_registration/synthetic_scene.h"
@@ -32,13 +35,37 @@ syn::Scenario hallAt(const Sim2& T) {
   return syn::makeScenario(plan, solids, lo, hi, T, waypoints, 0.1, 1.0, 4.0);
 }
 
+/// A parking deck (60 x 48 sketch metres): pillars every 8 m, two partitions and a core. From
+/// most places the outer walls lie beyond the observation's 30 m at scale 1.6 while pillars lie
+/// within it, in bins whose other directions reach the walls (the paper garage).
+syn::Scenario deckAt(const Sim2& T) {
+  syn::FloorPlan plan;
+  std::vector<syn::Box> solids;
+  const Vector2d lo(0.0, 0.0), hi(60.0, 48.0);
+  syn::addBox(plan, lo, hi);
+  for (double x = 8.0; x < 60.0; x += 8.0) {
+    for (double y = 8.0; y < 48.0; y += 8.0) {
+      solids.push_back({Vector2d(x - 0.3, y - 0.3), Vector2d(x + 0.3, y + 0.3)});
+    }
+  }
+  solids.push_back({Vector2d(44.0, 30.0), Vector2d(50.0, 38.0)});
+  for (const syn::Box& b : solids) syn::addBox(plan, b.min_m, b.max_m);
+  plan.push_back({Vector2d(12.0, 20.0), Vector2d(28.0, 20.0)});
+  plan.push_back({Vector2d(36.0, 4.0), Vector2d(36.0, 14.0)});
+  const Points2d waypoints = {{4, 4}, {56, 4}, {56, 24}, {4, 24}, {4, 44}, {56, 44}};
+  return syn::makeScenario(plan, solids, lo, hi, T, waypoints, 0.1, 1.0, 4.0);
+}
+
 /// Share of the robot's positions at which a candidate within 4 m (sketch) of the truth is among
-/// the top 5 % of all candidates. The observation sees `observed_range_m` (world metres).
+/// the top 5 % of all candidates. The observation sees `observed_range_m` (world metres), cut
+/// at it (clip_to_range) as the sketch is; `range_levels_m` go to the database.
 double topFiveShare(const syn::Scenario& sc, const DescriptorConfig& sketch_config,
-                    double observed_range_m) {
-  const CandidateDatabase db(sc.sketch_points_m, sc.candidates_m, sketch_config);
+                    double observed_range_m, std::vector<double> range_levels_m = {}) {
+  const CandidateDatabase db(sc.sketch_points_m, sc.candidates_m, sketch_config,
+                             std::move(range_levels_m));
   DescriptorConfig observed_config;
   observed_config.max_range_m = observed_range_m;
+  observed_config.clip_to_range = sketch_config.clip_to_range;
   const size_t k = static_cast<size_t>(std::ceil(0.05 * static_cast<double>(db.validCount())));
   int hits = 0, frames = 0;
   for (const Vector2d& p : sc.path_world_m) {
@@ -65,12 +92,75 @@ TEST(Retrieval, EmptyObservedBinsCountAsUnseen) {
   const syn::Scenario sc = hallAt(Sim2(0.7, 1.6, Vector2d(12.0, -5.0)));
   DescriptorConfig sketch_config;
   sketch_config.max_range_m = 75.0;
+  sketch_config.clip_to_range = false;  // empty bins exist only uncut
   sketch_config.empty_observed_bins_unknown = true;
   const double unseen = topFiveShare(sc, sketch_config, 30.0);
   sketch_config.empty_observed_bins_unknown = false;
   const double no_wall = topFiveShare(sc, sketch_config, 30.0);
   EXPECT_GE(unseen, 0.7);
   EXPECT_LT(no_wall, unseen - 0.25);
+}
+
+TEST(Retrieval, SketchCutAtTheObservationsRangeFindsTheDeck) {
+  // Drawn at 1.6 world metres per sketch metre, guessed 1: the sketch sees 75 sketch metres
+  // (120 m) where the observation sees 30 m. Bins where the observation holds a pillar and the
+  // sketch the wall behind it ranked the truth low; cut at the range level nearest the true
+  // scale, both describe the same 30 m.
+  const syn::Scenario sc = deckAt(Sim2(0.7, 1.6, Vector2d(12.0, -5.0)));
+  SketchRegistrationConfig config;  // scale_guess 1, tolerance 2.5, 7 scale levels
+  config.descriptor.clip_to_range = true;
+  DescriptorConfig sketch_config = sketchDescriptorConfig(config);
+  const double levels = topFiveShare(sc, sketch_config, 30.0, sketchRangeLevelsM(config));
+  const double one_level = topFiveShare(sc, sketch_config, 30.0);
+  sketch_config.clip_to_range = false;
+  const double legacy = topFiveShare(sc, sketch_config, 30.0);
+  EXPECT_GE(levels, 0.9);
+  EXPECT_GT(levels, one_level + 0.1);
+  EXPECT_GT(levels, legacy + 0.1);
+}
+
+TEST(Retrieval, RangeLevelsSpanTheScaleTolerance) {
+  SketchRegistrationConfig config;
+  config.scale_guess = 2.0;
+  config.scale_levels = 5;
+  const std::vector<double> levels = sketchRangeLevelsM(config);
+  ASSERT_EQ(levels.size(), 5u);
+  // R / s for s from s_g / f to s_g f: 30 / 0.8 down to 30 / 5, geometric.
+  EXPECT_NEAR(levels.front(), 37.5, 1e-9);
+  EXPECT_NEAR(levels.front(), sketchDescriptorConfig(config).max_range_m, 1e-9);
+  EXPECT_NEAR(levels[2], 15.0, 1e-9);
+  EXPECT_NEAR(levels.back(), 6.0, 1e-9);
+  EXPECT_NEAR(levels[1] / levels[2], levels[3] / levels[4], 1e-9);
+  config.scale_levels = 1;
+  EXPECT_EQ(sketchRangeLevelsM(config), std::vector<double>{15.0});
+}
+
+TEST(Retrieval, ALevelIsTheDescriptorComputedAtThatRange) {
+  // Cutting the stored descriptor at r (min(range, r)) must equal describing the sketch with a
+  // range limit r: retrieval relies on it instead of storing a descriptor per level.
+  const syn::Scenario sc = deckAt(Sim2());
+  DescriptorConfig config;
+  config.max_range_m = 75.0;
+  config.clip_to_range = true;
+  const std::vector<double> levels = {75.0, 40.0, 22.5, 12.0};
+  Points2d locations;
+  for (size_t i = 0; i < sc.candidates_m.size(); i += 97) locations.push_back(sc.candidates_m[i]);
+  const CandidateDatabase db(sc.sketch_points_m, locations, config, levels);
+  ASSERT_EQ(db.rangeLevelsM(), levels);
+  for (size_t i = 0; i < db.size(); ++i) {
+    for (int l = 0; l < static_cast<int>(levels.size()); ++l) {
+      DescriptorConfig at = config;
+      at.max_range_m = levels[static_cast<size_t>(l)];
+      const GeoContext direct = computeGeoContext(sc.sketch_points_m, db.locations()[i], at);
+      const GeoContext cut = db.descriptorAtLevel(i, l);
+      ASSERT_EQ(cut.range_m.size(), direct.range_m.size());
+      for (size_t b = 0; b < cut.range_m.size(); ++b) {
+        EXPECT_NEAR(cut.range_m[b], direct.range_m[b], 1e-4) << "candidate " << i << " level " << l;
+      }
+      EXPECT_NEAR(cut.cv, direct.cv, 1e-6);
+      EXPECT_EQ(cut.valid, direct.valid);
+    }
+  }
 }
 
 TEST(Retrieval, MaskedCosineIgnoresOnlyTheUnseenBins) {
@@ -100,8 +190,15 @@ TEST(Retrieval, SketchSeesAsFarAsTheObservationAtTheSmallestScale) {
   // 24 x 20 m world would be missing from the sketch's descriptor.
   const syn::Scenario sc = hallAt(Sim2(0.7, 0.6, Vector2d(12.0, -5.0)));
   SketchRegistrationConfig config;  // scale_guess 1, tolerance 2.5, descriptor range 30 m
-  const DescriptorConfig sketch_config = sketchDescriptorConfig(config);
-  EXPECT_DOUBLE_EQ(sketch_config.max_range_m, 75.0);
+  DescriptorConfig cut = sketchDescriptorConfig(config);
+  EXPECT_DOUBLE_EQ(cut.max_range_m, 75.0);
+  // Cut at the range levels (the default), one of which lies near 30 / 0.6 = 50 sketch metres.
+  ASSERT_TRUE(cut.clip_to_range);
+  EXPECT_GE(topFiveShare(sc, cut, 30.0, sketchRangeLevelsM(config)), 0.9);
+  // Not cut (empty observed bins unseen), the sketch must see at least as far as the
+  // observation, hence its 75 sketch metres.
+  DescriptorConfig sketch_config = cut;
+  sketch_config.clip_to_range = false;
   const double derived = topFiveShare(sc, sketch_config, 30.0);
   DescriptorConfig at_guess = sketch_config;
   at_guess.max_range_m = 30.0;

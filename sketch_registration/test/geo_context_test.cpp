@@ -144,6 +144,95 @@ TEST(GeoContext, SimilaritiesAreScaleInvariant) {
   EXPECT_NEAR(cvSimilarity(a, b), 1.0, 1e-9);
 }
 
+TEST(GeoContext, ABinPartlyBeyondRangeHoldsTheRangeLimit) {
+  // A pillar 10 m ahead covers a third of bin 0; the rest of the bin sees nothing within 30 m.
+  // Cut at the range, the bin holds 30 m (what lies beyond is at least that far), not the
+  // pillar; a bin the pillar fills holds the pillar either way.
+  Points2d pts;
+  for (double y = -0.12; y <= 0.12; y += 0.02) pts.emplace_back(10.0, y);
+  for (double y = -1.0; y <= 1.0; y += 0.02)
+    pts.emplace_back(10.0 * std::cos(0.5), 10.0 * std::sin(0.5) + y);
+  DescriptorConfig config;
+  config.point_radius_m = 0.02;
+  config.clip_to_range = true;
+  const GeoContext cut = computeGeoContext(pts, Vector2d::Zero(), config);
+  config.clip_to_range = false;
+  const GeoContext plain = computeGeoContext(pts, Vector2d::Zero(), config);
+  const size_t full = static_cast<size_t>(std::lround(0.5 / (2.0 * M_PI / config.num_bins)));
+  EXPECT_NEAR(plain.range_m[0], 10.0, 0.01);
+  EXPECT_FLOAT_EQ(cut.range_m[0], 30.0f);
+  EXPECT_NEAR(cut.range_m[full], plain.range_m[full], 1e-6);
+  EXPECT_LT(cut.range_m[full], 10.5f);
+  // Every other bin saw nothing: 30 m cut, empty plain.
+  EXPECT_FLOAT_EQ(cut.range_m[45], 30.0f);
+  EXPECT_FLOAT_EQ(plain.range_m[45], 0.0f);
+}
+
+TEST(GeoContext, AHoleInTheObservedWallsReadsTheFarthestSeenNotTheRange) {
+  // Walls on a circle of 10 m with three 20 degree gaps. Through the gap at 0 deg the floor is
+  // seen up to 9.8 m (a hole in the walls, not open space); through the gap at 90 deg a wall 35 m
+  // away is seen (open beyond the 30 m range); through the gap at 180 deg nothing is seen.
+  DescriptorConfig config;
+  config.point_radius_m = 0.05;
+  ASSERT_TRUE(config.clip_to_range);
+  const double half_gap = 10.0 * M_PI / 180.0;
+  const auto inGap = [&](double a) {
+    for (double c : {0.0, 0.5 * M_PI, M_PI}) {
+      if (std::abs(std::remainder(a - c, 2.0 * M_PI)) < half_gap) return true;
+    }
+    return false;
+  };
+  Points2d walls, beyond, floor;
+  for (double a = -M_PI; a < M_PI; a += 0.002) {
+    if (!inGap(a)) walls.emplace_back(10.0 * std::cos(a), 10.0 * std::sin(a));
+  }
+  for (double a = 0.5 * M_PI - half_gap; a < 0.5 * M_PI + half_gap; a += 0.002)
+    beyond.emplace_back(35.0 * std::cos(a), 35.0 * std::sin(a));
+  for (double a = -half_gap; a < half_gap; a += 0.002) {
+    for (double r = 1.0; r <= 9.8 + 1e-9; r += 0.2)
+      floor.emplace_back(r * std::cos(a), r * std::sin(a));
+  }
+  const GeoContext obs =
+      computeObservedGeoContext(walls, {&walls, &beyond, &floor}, Vector2d::Zero(), config);
+  const GeoContext walls_only = computeGeoContext(walls, Vector2d::Zero(), config);
+  const int quarter = config.num_bins / 4;
+  EXPECT_NEAR(obs.range_m[0], 9.8, 0.05);
+  EXPECT_FLOAT_EQ(walls_only.range_m[0], 30.0f);  // a hole read as open space
+  EXPECT_FLOAT_EQ(obs.range_m[static_cast<size_t>(quarter)], 30.0f);
+  EXPECT_FLOAT_EQ(obs.range_m[static_cast<size_t>(2 * quarter)], 0.0f);  // unknown
+  EXPECT_FLOAT_EQ(walls_only.range_m[static_cast<size_t>(2 * quarter)], 30.0f);
+  EXPECT_NEAR(obs.range_m[static_cast<size_t>(quarter / 2)], 10.0, 0.05);
+  EXPECT_TRUE(obs.valid);
+  // Without the cut the seen points change nothing.
+  config.clip_to_range = false;
+  EXPECT_EQ(
+      computeObservedGeoContext(walls, {&walls, &beyond, &floor}, Vector2d::Zero(), config).range_m,
+      computeGeoContext(walls, Vector2d::Zero(), config).range_m);
+}
+
+TEST(GeoContext, OnlyBinsInsideTheRangeMakeACutDescriptorValid) {
+  // Cut at the range, a place with nothing within it has every bin at the limit: flat, and
+  // describing nothing. It is invalid, like the plain descriptor of no points.
+  DescriptorConfig config;
+  config.min_valid_bins = 6;
+  config.clip_to_range = true;
+  Points2d pts;
+  const double step = 2.0 * M_PI / config.num_bins;
+  // An arc at 5 m over the whole of bin k.
+  const auto arc = [&](int k) {
+    for (double a = (k - 0.5) * step; a <= (k + 0.5) * step; a += 0.002)
+      pts.emplace_back(5.0 * std::cos(a), 5.0 * std::sin(a));
+  };
+  for (int k = 0; k < 5; ++k) arc(k);
+  // One point in each of many other bins: seen, but partly beyond range, so not inside it.
+  for (int k = 20; k < 80; k += 3)
+    pts.emplace_back(5.0 * std::cos(k * step), 5.0 * std::sin(k * step));
+  EXPECT_FALSE(computeGeoContext(pts, Vector2d::Zero(), config).valid);
+  arc(5);
+  EXPECT_TRUE(computeGeoContext(pts, Vector2d::Zero(), config).valid);
+  EXPECT_FALSE(computeGeoContext(Points2d{}, Vector2d::Zero(), config).valid);
+}
+
 TEST(GeoContext, EmptyOrSparseInputIsInvalid) {
   DescriptorConfig config;
   EXPECT_FALSE(computeGeoContext({}, Vector2d::Zero(), config).valid);

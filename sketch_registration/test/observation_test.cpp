@@ -95,6 +95,25 @@ TEST(Observation, BuildingKeepsWallsAndDoorGapDropsCarFloorCeiling) {
   EXPECT_FALSE(std::any_of(m.points_m.begin(), m.points_m.end(), onCar));
 }
 
+TEST(Observation, EveryColumnIsWallPassageOrOther) {
+  // The descriptor reads everything seen: each column is in exactly one list. A wall (one run
+  // 2 m tall), a passage (floor and ceiling 3 m apart) and a floor patch (too short a run).
+  Points3d pts;
+  for (double z = 0.0; z <= 2.0 + 1e-9; z += kStep) pts.emplace_back(5.0, 0.0, z);
+  pts.emplace_back(0.0, 5.0, 0.0);
+  pts.emplace_back(0.0, 5.0, 3.0);
+  pts.emplace_back(-5.0, 0.0, 0.0);
+  pts.emplace_back(-5.0, 0.0, 0.2);
+  const ProjectedMap m = observeLocalMap(pts, kRobot, ObservationConfig{}, 30.0);
+  EXPECT_EQ(m.num_columns, 3u);
+  ASSERT_EQ(m.points_m.size(), 1u);
+  ASSERT_EQ(m.passage_m.size(), 1u);
+  ASSERT_EQ(m.other_m.size(), 1u);
+  EXPECT_NEAR(m.points_m[0].x(), 5.0, 1e-9);
+  EXPECT_NEAR(m.passage_m[0].y(), 5.0, 1e-9);
+  EXPECT_NEAR(m.other_m[0].x(), -5.0, 1e-9);
+}
+
 TEST(Observation, CaveKeepsTheOutlineAtTheWidestExtent) {
   const ObservationConfig config;
   const ProjectedMap m = observeLocalMap(caveScene(), kRobot, config, 30.0);

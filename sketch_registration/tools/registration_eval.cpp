@@ -44,8 +44,8 @@
 // Registration parameters for ablations: --eta, --fitness-threshold-m, --min-inlier-ratio,
 // --kept-fitness-threshold-m, --kept-min-inlier-ratio, --inlier-distance-m, --slice-min-dz-m,
 // --slice-max-dz-m, --wall-columns 0|1, --column-cell-m, --wall-min-height-m, --wall-max-gap-m,
-// --icp-range-m, --max-range-m, --unknown-empty-bins 0|1, --settled-coverage,
-// --coverage-weight-m, --history 0|1.
+// --icp-range-m, --max-range-m, --unknown-empty-bins 0|1, --clip-to-range 0|1, --scale-levels,
+// --sketch-point-radius-m, --settled-coverage, --coverage-weight-m, --history 0|1.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -533,12 +533,31 @@ void dumpFrame(const std::string& dir, uint64_t seed, double t_s,
       << T_truth.yaw_rad << " scale " << T_truth.scale << " reflected " << T_truth.reflected
       << "\nobserved cv " << observed.cv << " points " << obs.descriptor_m.size() << "\n"
       << vec(observed.range_m) << "\n";
+  {
+    // Per bin, how many of its fine depth-buffer bins hold a boundary within range.
+    const reg::DescriptorConfig odc = reg::observationDescriptorConfig(registration.config());
+    reg::PolarDepthBuffer buffer(odc.hprConfig());
+    buffer.splatAll(obs.descriptor_m, robot_m);
+    txt << "observed fine bins hit";
+    for (int i = 0; i < odc.num_bins; ++i) {
+      int hit = 0;
+      for (int k = i * odc.fine_bins_per_bin; k < (i + 1) * odc.fine_bins_per_bin; ++k)
+        hit += std::isfinite(buffer.depth(k));
+      txt << " " << hit;
+    }
+    txt << "\n";
+  }
+  // A candidate's descriptor as it was compared: cut at its best range level.
+  const auto levelOf = [&](const reg::Candidate& c) {
+    return db.descriptorAtLevel(static_cast<size_t>(c.index), c.range_level);
+  };
   const auto describe = [&](const char* what, const reg::Candidate& c, size_t rank) {
     txt << what << " index " << c.index << " at " << c.c_sketch.transpose() << " rank " << rank
         << " / " << all.size() << " S " << c.score << " cos " << c.s_cos << " fft " << c.s_fft
-        << " cv " << c.s_cv << " (prior cv " << db.descriptor(c.index).cv << ") yaw " << c.yaw_rad
-        << " reflected " << c.reflected << "\n"
-        << vec(db.descriptor(c.index).range_m) << "\n";
+        << " cv " << c.s_cv << " (prior cv " << levelOf(c).cv << ") yaw " << c.yaw_rad
+        << " reflected " << c.reflected << " range level "
+        << db.rangeLevelsM()[static_cast<size_t>(c.range_level)] << " m\n"
+        << vec(levelOf(c).range_m) << "\n";
   };
   if (truth_rank < all.size()) describe("truth", all[truth_rank], truth_rank);
   if (!all.empty()) describe("top", all.front(), 0);
@@ -566,10 +585,9 @@ void dumpFrame(const std::string& dir, uint64_t seed, double t_s,
   };
   polar(observed.range_m, 0.0, 1.0, {0, 0, 255});
   if (!all.empty())
-    polar(db.descriptor(all.front().index).range_m, all.front().yaw_rad, T_truth.scale,
-          {0, 140, 255});
+    polar(levelOf(all.front()).range_m, all.front().yaw_rad, T_truth.scale, {0, 140, 255});
   if (truth_rank < all.size()) {
-    polar(db.descriptor(nearest).range_m, T_truth.yaw_rad, T_truth.scale, {0, 170, 0});
+    polar(levelOf(all[truth_rank]).range_m, T_truth.yaw_rad, T_truth.scale, {0, 170, 0});
   }
   cv::circle(img, px(robot_m), 4, {255, 0, 0}, -1);
   cv::imwrite(stem + ".png", img);
@@ -935,6 +953,9 @@ Options parse(int argc, char** argv) {
                         "icp-range-m",
                         "max-range-m",
                         "unknown-empty-bins",
+                        "clip-to-range",
+                        "scale-levels",
+                        "sketch-point-radius-m",
                         "settled-coverage",
                         "coverage-weight-m",
                         "history"}) {
@@ -1008,6 +1029,12 @@ Options parse(int argc, char** argv) {
   o.registration.descriptor.empty_observed_bins_unknown =
       args.integer("unknown-empty-bins",
                    o.registration.descriptor.empty_observed_bins_unknown ? 1 : 0) != 0;
+  o.registration.descriptor.clip_to_range =
+      args.integer("clip-to-range", o.registration.descriptor.clip_to_range ? 1 : 0) != 0;
+  o.registration.scale_levels =
+      static_cast<int>(args.integer("scale-levels", o.registration.scale_levels));
+  o.registration.sketch_point_radius_m =
+      args.number("sketch-point-radius-m", o.registration.sketch_point_radius_m);
   o.registration.settled_coverage =
       args.number("settled-coverage", o.registration.settled_coverage);
   o.registration.coverage_weight_m =

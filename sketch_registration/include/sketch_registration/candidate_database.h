@@ -21,7 +21,7 @@ Points2d makeCandidateGrid(const Eigen::Vector2d& min_m, const Eigen::Vector2d& 
                            const std::function<bool(const Eigen::Vector2d&)>& traversable);
 
 struct RetrievalConfig {
-  double eta = 0.05;                   ///< candidate rate: top fraction kept (paper eta)
+  double eta = 0.05;  ///< candidate rate: top fraction kept (paper eta)
   /// At least this many are ranked however small the sketch: eta of a 40 m cave's 101
   /// candidates is 6, 2-3 after downsampling, and the truth was often not among them (seen: a
   /// recorded cave flight never registered). No effect once eta N is larger (the paper's worlds).
@@ -41,19 +41,28 @@ struct Candidate {
   double s_cos = 0.0, s_fft = 0.0, s_cv = 0.0;
   double yaw_rad = 0.0;    ///< sketch -> world rotation from the best column shift
   bool reflected = false;  ///< best match was the mirror image
+  int range_level = 0;     ///< index of the best range level (CandidateDatabase)
 };
 
 class CandidateDatabase {
  public:
   CandidateDatabase() = default;
   /// Phase 1: HPR + GeoContext at every location. `config.max_range_m` is in sketch metres.
+  /// `range_levels_m` (sketch metres, each in (min_range_m, max_range_m]): with
+  /// config.clip_to_range, the ranges at which the observation's range limit may lie, one per
+  /// admissible scale; a candidate is compared with its descriptor cut at each (min(range, r)),
+  /// and its best level counts. Empty: max_range_m alone.
   CandidateDatabase(const Points2d& sketch_points_m, Points2d candidates_m,
-                    const DescriptorConfig& config);
+                    const DescriptorConfig& config, std::vector<double> range_levels_m = {});
 
   size_t size() const { return locations_.size(); }
   size_t validCount() const { return valid_count_; }
   const Points2d& locations() const { return locations_; }
+  /// The descriptor at max_range_m (the range levels cut it).
   const GeoContext& descriptor(size_t i) const { return descriptors_[i]; }
+  /// Candidate i's descriptor cut at range level `level` (with its features).
+  GeoContext descriptorAtLevel(size_t i, int level) const;
+  const std::vector<double>& rangeLevelsM() const { return levels_m_; }
   const DescriptorConfig& config() const { return config_; }
 
   /// The `k` best candidates by combined similarity, best first (exact: the cheap shift-invariant
@@ -68,12 +77,25 @@ class CandidateDatabase {
                                         const RetrievalConfig& config) const;
 
  private:
-  Candidate score(size_t i, const GeoContext& observed, const ShiftTables& tables,
-                  const SimilarityWeights& w, bool try_reversed) const;
+  /// Shift-invariant features of candidate i at one range level (Phase 1).
+  struct LevelFeatures {
+    std::vector<float> fft_magnitude;
+    double cv = 0.0;
+    bool valid = false;
+  };
+  const LevelFeatures& level(size_t i, int l) const {
+    return level_features_[i * levels_m_.size() + static_cast<size_t>(l)];
+  }
+  /// Upper bound of the combined score (S_cos <= 1) of candidate i at level l.
+  double bound(size_t i, int l, const GeoContext& observed, const SimilarityWeights& w) const;
+  Candidate score(size_t i, int l, const GeoContext& observed, const ShiftTables& tables,
+                  const SimilarityWeights& w, bool try_reversed, GeoContext& scratch) const;
   DescriptorConfig config_;
   Points2d locations_;
   std::vector<GeoContext> descriptors_;
-  size_t valid_count_ = 0;
+  std::vector<double> levels_m_;               ///< descending; levels_m_[0] may equal max_range_m
+  std::vector<LevelFeatures> level_features_;  ///< candidate-major
+  size_t valid_count_ = 0;                     ///< candidates valid at some level
 };
 
 }  // namespace efs::registration

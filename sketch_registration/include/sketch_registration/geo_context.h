@@ -37,6 +37,21 @@ struct DescriptorConfig {
   /// the observation's in world metres; at a true scale above the guess the sketch sees walls
   /// beyond the observation's range, which an empty observed bin would otherwise count against.)
   bool empty_observed_bins_unknown = true;
+  /// A fine (depth-buffer) bin with no boundary within max_range_m counts as max_range_m: each
+  /// bin holds the maximum of min(range, max_range_m) over its fine bins, the descriptor of the
+  /// place as a sensor limited to max_range_m sees it. Without it a bin partly beyond range holds
+  /// the nearest thing in it (a pillar at 24 m), while a sketch that sees 2.5x as far holds the
+  /// wall behind it at 80 m: on the paper garage (true scale 1.64 x the guess) the observed
+  /// bins with every fine bin seen agreed with the true candidate's in 335 of 471 cases, those
+  /// partly beyond range in 66 of 652. A sketch descriptor computed so is cut at any shorter
+  /// range r by min(range, r) (CandidateDatabase's range levels). Then no bin is empty and
+  /// empty_observed_bins_unknown has nothing to act on; a descriptor is valid with
+  /// min_valid_bins bins closer than max_range_m.
+  /// On the observation side an empty fine bin is told apart from a hole in the observed walls
+  /// by computeObservedGeoContext. Measured (eta 5 %, with sketch_point_radius_m 0.15): paper
+  /// garage precise 12.5 -> 100 %, deformed 29.2 -> 95.8 %; small garage 100 / 100 % (was 100 /
+  /// 100), simple cave 100 / 99.4 % (99.4 / 100), indoor 99.3 / 97.8 % (98.5 / 98.5).
+  bool clip_to_range = true;
 
   void validate() const;
   HprConfig hprConfig() const;
@@ -54,9 +69,23 @@ struct GeoContext {
 /// Descriptor of a point set seen from `viewpoint_m` (HPR is part of it).
 GeoContext computeGeoContext(const Points2d& points_m, const Eigen::Vector2d& viewpoint_m,
                              const DescriptorConfig& config);
+/// The observation's descriptor: the boundary is `walls_m`; `seen_m` is everything the local map
+/// has seen in the band (wall columns beyond max_range_m and the other columns included). With
+/// clip_to_range a fine bin with no wall within range reads the farthest point of `seen_m` in it,
+/// at most max_range_m (free space is known to reach that far: max_range_m when a wall or the
+/// floor is seen beyond range), and a fine bin with nothing seen in it is unknown (it does not
+/// raise its bin). A hole in the observed walls (an unseen stretch, a cave wall whose columns are
+/// passage) then reads about the wall's distance instead of max_range_m: on the small simple cave
+/// (one flight, the local map's in-band points) 623 of 740 partly seen bins agreed with the true
+/// place's within 3 m this way, 89 when an empty fine bin read max_range_m. Without
+/// clip_to_range: computeGeoContext(walls_m).
+GeoContext computeObservedGeoContext(const Points2d& walls_m,
+                                     const std::vector<const Points2d*>& seen_m,
+                                     const Eigen::Vector2d& viewpoint_m,
+                                     const DescriptorConfig& config);
 /// Descriptor from a filled depth buffer (Phase 1 reuses one buffer for all candidates).
 GeoContext geoContextFromBuffer(const PolarDepthBuffer& buffer, const DescriptorConfig& config);
-/// Fills fft_magnitude, cv and valid from range_m.
+/// Fills fft_magnitude, coarse_range_m, cv and valid from range_m.
 void computeFeatures(GeoContext& descriptor, const DescriptorConfig& config);
 
 /// S_inv_cos of two equally long range vectors (no shift), in [0, 1]. `unknown_empty`: an empty
@@ -97,7 +126,11 @@ ShiftMatch bestColumnShiftCoarseToFine(const GeoContext& prior, const ShiftTable
                                        bool try_reversed, int keep);
 
 double fftSimilarity(const GeoContext& prior, const GeoContext& observed);
+/// The same from the two descriptors' fft_magnitude.
+double fftSimilarity(const std::vector<float>& prior, const std::vector<float>& observed);
 double cvSimilarity(const GeoContext& prior, const GeoContext& observed);
+/// The same from the two descriptors' cv.
+double cvSimilarity(double prior_cv, double observed_cv);
 
 struct SimilarityWeights {
   double alpha_cos = 0.4;  ///< alpha_1

@@ -44,6 +44,9 @@ struct ProjectedMap {
   Points2d points_m;  ///< one point per kept column: the mean position of its points
   /// The passage columns' mean positions (ObservationHistory forgets remembered walls there).
   Points2d passage_m;
+  /// The other columns' mean positions (too short a run for a wall: floor or ceiling patches).
+  /// With points_m and passage_m: everything the local map has seen in the band.
+  Points2d other_m;
   size_t num_input = 0;
   size_t num_non_finite = 0;
   size_t num_in_band = 0;

@@ -65,6 +65,9 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   p.get("settled_coverage", r.settled_coverage);
   p.get("coverage_weight_m", r.coverage_weight_m);
   p.get("empty_observed_bins_unknown", r.descriptor.empty_observed_bins_unknown);
+  p.get("clip_to_range", r.descriptor.clip_to_range);
+  p.get("sketch_point_radius_m", r.sketch_point_radius_m);
+  p.get("scale_levels", r.scale_levels);
   p.get("wall_columns", r.observation.wall_columns);
   p.get("slice_min_dz_m", r.observation.slice_min_dz_m);
   p.get("slice_max_dz_m", r.observation.slice_max_dz_m);
