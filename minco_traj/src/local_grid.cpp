@@ -163,6 +163,28 @@ void LocalGrid::recenter(const Eigen::Vector3d& c) {
   recomputeInflation();
 }
 
+void LocalGrid::rememberHitAboveOrBelow(const VoxelKey& k) {
+  if (cfg_.memory_radius_m <= 0.0 || k.x < min_key_.x || k.x >= min_key_.x + nx_ ||
+      k.y < min_key_.y || k.y >= min_key_.y + ny_)
+    return;
+  // What one hit gives a cell in the window (see insertScan); not occupied: nothing to keep.
+  const double hit = cfg_.hit_overrides_free
+                         ? std::max(cfg_.logodds_hit, cfg_.logodds_occupied + cfg_.logodds_hit)
+                         : cfg_.logodds_hit;
+  const float logodds = static_cast<float>(std::min(cfg_.logodds_max, hit));
+  if (logodds <= cfg_.logodds_occupied) return;
+  const VoxelKey block = memoryBlock(k);
+  const RememberedCell cell = packRemembered(k, block, logodds);
+  std::vector<RememberedCell>& cells = memory_[block];
+  for (RememberedCell& c : cells)
+    if (c.x == cell.x && c.y == cell.y && c.z == cell.z) {
+      c.logodds_q = std::max(c.logodds_q, cell.logodds_q);
+      return;
+    }
+  cells.push_back(cell);
+  ++remembered_;
+}
+
 void LocalGrid::remember(const VoxelKey& k, float logodds) {
   const VoxelKey block = memoryBlock(k);
   memory_[block].push_back(packRemembered(k, block, logodds));
@@ -306,7 +328,10 @@ void LocalGrid::insertScan(const Eigen::Vector3d& origin,
   for (const auto& p : points) {
     if (!p.allFinite() || (p - origin).norm() > cfg_.max_ray_length_m) continue;
     const VoxelKey k = key(p);
-    if (!inWindow(k)) continue;
+    if (!inWindow(k)) {
+      rememberHitAboveOrBelow(k);
+      continue;
+    }
     const size_t idx = index(k);
     if (cells_[idx].scan_stamp == scan_id_) continue;
     cells_[idx].scan_stamp = scan_id_;

@@ -185,6 +185,36 @@ TEST(LocalGrid, RememberedPatchComesBackAfterALongFlight) {
   EXPECT_EQ(g.rememberedCount(), 0u);
 }
 
+// A floor seen from 4 m above it, below the 2 m tall window, is there when the vehicle comes
+// down: the LiDAR does not see it again from right above it. A wall beside the window is not
+// kept (it is seen again on the way there), and a hit seen twice is remembered once.
+TEST(LocalGrid, AFloorSeenBelowTheWindowIsThereWhenTheWindowComesDown) {
+  LocalGridConfig cfg = smallGrid(0.2);
+  cfg.size_z_m = 2.0;
+  cfg.memory_radius_m = 50.0;
+  LocalGrid g(cfg, Eigen::Vector3d(0, 0, 0));
+  std::vector<Eigen::Vector3d> floor;
+  for (int i = 0; i < 10; ++i) floor.emplace_back(-0.45 + 0.1 * i, 0.55, -3.95);
+  std::vector<Eigen::Vector3d> scan = floor;
+  const Eigen::Vector3d beside(10.05, 0.05, 0.05);
+  scan.push_back(beside);
+  g.insertScan(Eigen::Vector3d(0, 0, 0.5), scan);
+  g.insertScan(Eigen::Vector3d(0, 0, 0.5), scan);
+  for (const Eigen::Vector3d& p : floor) EXPECT_EQ(g.state(p), CellState::kOutside);
+  EXPECT_EQ(g.rememberedCount(), floor.size());
+  g.recenter(Eigen::Vector3d(0, 0, -3.0));
+  for (const Eigen::Vector3d& p : floor) EXPECT_EQ(g.state(p), CellState::kOccupied);
+  EXPECT_TRUE(g.isInflated(g.key(Eigen::Vector3d(0.05, 0.55, -3.85))));
+  EXPECT_EQ(g.rememberedCount(), 0u);
+  g.recenter(Eigen::Vector3d(10.0, 0, 0));
+  EXPECT_EQ(g.state(beside), CellState::kUnknown);
+  // Without a memory nothing is kept.
+  cfg.memory_radius_m = 0.0;
+  LocalGrid forgetful(cfg, Eigen::Vector3d(0, 0, 0));
+  forgetful.insertScan(Eigen::Vector3d(0, 0, 0.5), scan);
+  EXPECT_EQ(forgetful.rememberedCount(), 0u);
+}
+
 TEST(LocalGrid, InflationAfterRecentringMatchesAFreshGrid) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1.5, 1.5);

@@ -52,10 +52,9 @@ struct LocalGridConfig {
   double logodds_min = -2.0;
   double logodds_max = 3.5;
   double logodds_occupied = 0.7;  ///< above this an observed cell is occupied
-  /// Occupied cells that left the window are remembered while within this horizontal distance
-  /// of the window centre; 0 forgets them. The memory grows with the mapped surface (4 bytes per
-  /// occupied cell). Only what was inside the window is remembered: a floor more than
-  /// size_z_m / 2 below the vehicle as it passed never was.
+  /// Occupied cells that left the window, and hits above or below it, are remembered while
+  /// within this horizontal distance of the window centre; 0 forgets them. The memory grows
+  /// with the mapped surface (4 bytes per occupied cell).
   double memory_radius_m = 100.0;
   void validate() const;
 };
@@ -152,6 +151,12 @@ class LocalGrid {
     return {k.x >> kMemoryBlockBits, k.y >> kMemoryBlockBits, k.z >> kMemoryBlockBits};
   }
   void remember(const VoxelKey& k, float logodds);
+  /// A hit above or below the window (inside its horizontal extent) goes into the memory, to
+  /// come back occupied when the window moves down or up over it: the floor of a descent is
+  /// seen from above, more than size_z_m / 2 below, and the LiDAR does not see it again from
+  /// right above it (seen: two collisions with cave floors the exploration map held occupied).
+  /// Farther hits are not kept: the vehicle sees them again on its way there.
+  void rememberHitAboveOrBelow(const VoxelKey& k);
   /// Brings remembered cells inside the window back into it (and out of the memory).
   void restoreRemembered();
   /// Drops memory blocks beyond memory_radius_m of the window centre.
