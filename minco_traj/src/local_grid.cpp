@@ -163,16 +163,8 @@ void LocalGrid::recenter(const Eigen::Vector3d& c) {
   recomputeInflation();
 }
 
-void LocalGrid::rememberHitAboveOrBelow(const VoxelKey& k) {
-  if (cfg_.memory_radius_m <= 0.0 || k.x < min_key_.x || k.x >= min_key_.x + nx_ ||
-      k.y < min_key_.y || k.y >= min_key_.y + ny_)
-    return;
-  // What one hit gives a cell in the window (see insertScan); not occupied: nothing to keep.
-  const double hit = cfg_.hit_overrides_free
-                         ? std::max(cfg_.logodds_hit, cfg_.logodds_occupied + cfg_.logodds_hit)
-                         : cfg_.logodds_hit;
-  const float logodds = static_cast<float>(std::min(cfg_.logodds_max, hit));
-  if (logodds <= cfg_.logodds_occupied) return;
+void LocalGrid::rememberHitAboveOrBelow(const VoxelKey& k, float logodds) {
+  if (!inWindowXY(k)) return;
   const VoxelKey block = memoryBlock(k);
   const RememberedCell cell = packRemembered(k, block, logodds);
   std::vector<RememberedCell>& cells = memory_[block];
@@ -183,6 +175,13 @@ void LocalGrid::rememberHitAboveOrBelow(const VoxelKey& k) {
     }
   cells.push_back(cell);
   ++remembered_;
+}
+
+float LocalGrid::hitDelta(float logodds) const {
+  const float hit = static_cast<float>(cfg_.logodds_hit);
+  return cfg_.hit_overrides_free
+             ? std::max(hit, static_cast<float>(cfg_.logodds_occupied + cfg_.logodds_hit) - logodds)
+             : hit;
 }
 
 void LocalGrid::remember(const VoxelKey& k, float logodds) {
@@ -324,23 +323,22 @@ void LocalGrid::insertScan(const Eigen::Vector3d& origin,
     scan_id_ = 1;
   }
   const double res = cfg_.resolution_m;
+  // What a hit makes of a cell never seen; kept for hits outside the window only if occupied.
+  const float hit_on_unknown = std::min(static_cast<float>(cfg_.logodds_max), hitDelta(0.f));
+  const bool remember_outside =
+      cfg_.memory_radius_m > 0.0 && hit_on_unknown > static_cast<float>(cfg_.logodds_occupied);
   // Hits first, so that a cell hit in this scan is not cleared by a grazing ray of the same scan.
   for (const auto& p : points) {
     if (!p.allFinite() || (p - origin).norm() > cfg_.max_ray_length_m) continue;
     const VoxelKey k = key(p);
     if (!inWindow(k)) {
-      rememberHitAboveOrBelow(k);
+      if (remember_outside) rememberHitAboveOrBelow(k, hit_on_unknown);
       continue;
     }
     const size_t idx = index(k);
     if (cells_[idx].scan_stamp == scan_id_) continue;
     cells_[idx].scan_stamp = scan_id_;
-    float delta = static_cast<float>(cfg_.logodds_hit);
-    if (cfg_.hit_overrides_free) {
-      delta = std::max(delta, static_cast<float>(cfg_.logodds_occupied + cfg_.logodds_hit) -
-                                  cells_[idx].logodds);
-    }
-    updateCell(idx, k, delta);
+    updateCell(idx, k, hitDelta(cells_[idx].logodds));
   }
   // One ray per coarse end voxel (the first point in it), in a deterministic order.
   ray_bins_.clear();

@@ -205,7 +205,7 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   const auto candidate = [&](int id, const std::set<int>& reached) {
     alive.insert(id);
     if (reached.count(id)) return false;
-    if (given_up_ids_.count(id)) {
+    if (givenUp(id)) {
       ++given_up;
       return false;
     }
@@ -213,6 +213,8 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
     ++set_aside;
     return false;
   };
+  // Searched at most once per plan (a pass over the occupancy), whatever the retry below does.
+  std::optional<std::vector<Opening>> openings;
   const auto collect = [&] {
     vps.clear();
     vp_cluster.clear();
@@ -226,8 +228,10 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
     // No surface viewpoint left: the ways on that the surface frontiers cannot see (openings.h).
     opening_look_at_.clear();
     if (vps.empty() && config_.use_openings) {
-      for (const Opening& o : findOpenings(occupancy_, robot.position_world_m,
-                                           config_.bounds_world_m, config_.openings)) {
+      if (!openings)
+        openings = findOpenings(occupancy_, robot.position_world_m, config_.bounds_world_m,
+                                config_.openings);
+      for (const Opening& o : *openings) {
         if (!candidate(o.id, reached_opening_ids_)) continue;
         vps.push_back({o.id, o.viewpoint_world_m, o.yaw_rad});
         vp_cluster.push_back(-1);
@@ -394,8 +398,12 @@ bool ExplorationManager::checkProgress(double time_s) {
 
 void ExplorationManager::setAside(int id, double time_s) {
   set_aside_until_s_[id] = time_s + config_.unreachable_retry_s;
-  if (++set_aside_count_[id] >= config_.unreachable_attempts && given_up_ids_.insert(id).second)
-    ++stats_.viewpoints_given_up;
+  if (++set_aside_count_[id] == config_.unreachable_attempts) ++stats_.viewpoints_given_up;
+}
+
+bool ExplorationManager::givenUp(int id) const {
+  const auto it = set_aside_count_.find(id);
+  return it != set_aside_count_.end() && it->second >= config_.unreachable_attempts;
 }
 
 bool ExplorationManager::refusedGoal(const Eigen::Vector3d& goal_world_m) const {

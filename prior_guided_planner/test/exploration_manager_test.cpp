@@ -42,6 +42,10 @@ void scanFrom(ExplorationManager& m, const Scene& s, const Eigen::Vector3d& o) {
   m.insertScan(o, toFloat(s.scanSphere(o, 1.0)));
 }
 
+// Where most tests start, and the corridor room scanned once from there.
+Eigen::Vector3d corridorStart() { return {2.0, 0.1, 1.6}; }
+void scanCorridor(ExplorationManager& m) { scanFrom(m, corridorRoom(), corridorStart()); }
+
 RobotPose at(const Eigen::Vector3d& p, double yaw = 0.0) {
   RobotPose r;
   r.position_world_m = p;
@@ -50,17 +54,16 @@ RobotPose at(const Eigen::Vector3d& p, double yaw = 0.0) {
 }
 
 TEST(ExplorationManager, WaitsForDataThenProducesAGoalAhead) {
-  const Scene room = corridorRoom();
   ExplorationManagerConfig c;
   c.tour_lookahead_m = 0.0;  // the goal is the first viewpoint (look-ahead: its own test)
   ExplorationManager m(c, std::nullopt);
-  const Eigen::Vector3d start(2.0, 0.1, 1.6);
+  const Eigen::Vector3d start = corridorStart();
   const ExplorationTarget& t0 = m.update(0.0, at(start));
   EXPECT_EQ(t0.state, ExplorationState::kWaitingForData);
   EXPECT_FALSE(t0.has_goal);
   EXPECT_NE(t0.message.find("no scan"), std::string::npos);
 
-  scanFrom(m, room, start);
+  scanCorridor(m);
   const ExplorationTarget& t = m.update(0.1, at(start));
   ASSERT_EQ(t.state, ExplorationState::kExploring) << t.message;
   ASSERT_TRUE(t.has_goal);
@@ -79,12 +82,11 @@ TEST(ExplorationManager, WaitsForDataThenProducesAGoalAhead) {
 }
 
 TEST(ExplorationManager, NoReplanBeforeThePeriodUnlessTheTargetIsReached) {
-  const Scene room = corridorRoom();
   ExplorationManagerConfig c;
   c.replan_period_s = 5.0;
   ExplorationManager m(c, std::nullopt);
-  const Eigen::Vector3d start(2.0, 0.1, 1.6);
-  scanFrom(m, room, start);
+  const Eigen::Vector3d start = corridorStart();
+  scanCorridor(m);
   ASSERT_TRUE(m.update(0.0, at(start)).replanned);
   const Eigen::Vector3d goal = m.target().goal_world_m;
   EXPECT_FALSE(m.update(1.0, at(start)).replanned);
@@ -170,13 +172,12 @@ TEST(ExplorationManager, TargetsWithoutProgressAreRetriedThenGivenUp) {
 // progress watchdog) and another target is planned on the next update; a report about a goal
 // that is no longer current, or a non-finite one, changes nothing.
 TEST(ExplorationManager, AGoalTheLocalPlannerGaveUpOnIsSetAsideAtOnce) {
-  const Scene room = corridorRoom();
   ExplorationManagerConfig c;
   c.target_progress_timeout_s = 10.0;
   c.unreachable_retry_s = 100.0;
   ExplorationManager m(c, std::nullopt);
-  const Eigen::Vector3d start(2.0, 0.1, 1.6);
-  scanFrom(m, room, start);
+  const Eigen::Vector3d start = corridorStart();
+  scanCorridor(m);
   ASSERT_EQ(m.update(0.0, at(start)).state, ExplorationState::kExploring);
   const int first = *m.target().goal_viewpoint_id;
   const Eigen::Vector3d goal = m.target().goal_world_m;
@@ -214,13 +215,12 @@ TEST(ExplorationManager, AGoalTheLocalPlannerGaveUpOnIsSetAsideAtOnce) {
 // every goal it is sent. Each viewpoint gets unreachable_attempts, the set-aside ones are
 // retried without waiting out the retry time, and the exploration ends, naming the leftovers.
 TEST(ExplorationManager, EveryGoalRefusedEndsTheExplorationWithTheLeftoversNamed) {
-  const Scene room = corridorRoom();
   ExplorationManagerConfig c;
   c.unreachable_retry_s = 1e5;
   c.unreachable_attempts = 2;
   ExplorationManager m(c, std::nullopt);
-  const Eigen::Vector3d start(2.0, 0.1, 1.6);
-  scanFrom(m, room, start);
+  const Eigen::Vector3d start = corridorStart();
+  scanCorridor(m);
   double time = 0.0;
   m.update(time, at(start));
   while (m.target().state != ExplorationState::kFinished && time < 1000.0) {
@@ -391,10 +391,9 @@ TEST(ExplorationManager, NonFiniteInputIsDroppedAndReported) {
 }
 
 TEST(ExplorationManager, TimeGoingBackwardsIsRefused) {
-  const Scene room = corridorRoom();
   ExplorationManager m(ExplorationManagerConfig{}, std::nullopt);
-  const Eigen::Vector3d start(2.0, 0.1, 1.6);
-  scanFrom(m, room, start);
+  const Eigen::Vector3d start = corridorStart();
+  scanCorridor(m);
   ASSERT_TRUE(m.update(10.0, at(start)).has_goal);
   const Eigen::Vector3d goal = m.target().goal_world_m;
   const ExplorationTarget& t = m.update(5.0, at(start));
@@ -420,10 +419,9 @@ GuidepointPrior corridorPrior(int n, double spacing_m) {
 }
 
 TEST(ExplorationManager, HypothesesGuideAndBadOnesAreRefused) {
-  const Scene room = corridorRoom();
   ExplorationManager m(ExplorationManagerConfig{}, corridorPrior(4, 5.0));
-  const Eigen::Vector3d start(2.0, 0.1, 1.6);
-  scanFrom(m, room, start);
+  const Eigen::Vector3d start = corridorStart();
+  scanCorridor(m);
   Hypothesis bad;
   bad.id = 3;
   bad.T_world_sketch.scale = std::nan("");
@@ -461,15 +459,14 @@ TEST(ExplorationManager, HypothesesGuideAndBadOnesAreRefused) {
 }
 
 TEST(ExplorationManager, GreedyPriorModeFollowsThePredictedCorridor) {
-  const Scene room = corridorRoom();
   ExplorationManagerConfig c;
   c.planner.mode = BaselineMode::kGreedyPrior;
   GuidepointPrior prior = corridorPrior(4, 5.0);
   for (double x = 0.5; x < 16.0; x += 1.0)
     for (double y = -2.5; y < 3.0; y += 1.0) prior.predicted_free_sketch_m.emplace_back(x, y);
   ExplorationManager m(c, prior);
-  const Eigen::Vector3d start(2.0, 0.1, 1.6);
-  scanFrom(m, room, start);
+  const Eigen::Vector3d start = corridorStart();
+  scanCorridor(m);
   m.setHypotheses({Hypothesis{2, Sim2(), 0.7}});
   const ExplorationTarget& t = m.update(0.0, at(start));
   ASSERT_TRUE(t.has_goal) << t.message;

@@ -145,12 +145,12 @@ namespace {
 /// with the cut, so the coarse (max-pooled) descriptor is cut alike.
 void cutAt(const GeoContext& base, double r, GeoContext& out) {
   const float rf = static_cast<float>(r);
-  out.range_m.resize(base.range_m.size());
-  for (size_t i = 0; i < base.range_m.size(); ++i) out.range_m[i] = std::min(base.range_m[i], rf);
-  out.coarse_range_m.resize(base.coarse_range_m.size());
-  for (size_t i = 0; i < base.coarse_range_m.size(); ++i) {
-    out.coarse_range_m[i] = std::min(base.coarse_range_m[i], rf);
-  }
+  const auto cut = [rf](const std::vector<float>& in, std::vector<float>& to) {
+    to.resize(in.size());
+    std::transform(in.begin(), in.end(), to.begin(), [rf](float x) { return std::min(x, rf); });
+  };
+  cut(base.range_m, out.range_m);
+  cut(base.coarse_range_m, out.coarse_range_m);
 }
 }  // namespace
 

@@ -95,12 +95,12 @@ std::vector<double> sketchRangeLevelsM(const SketchRegistrationConfig& c) {
   // R / (s_g f). One level: the scale guess.
   const int n = c.scale_levels;
   const double r = c.descriptor.max_range_m / c.scale_guess;
+  // Never past the descriptor's own range (the same product, rounded another way).
+  const double longest_m = sketchDescriptorConfig(c).max_range_m;
   std::vector<double> levels;
   for (int l = 0; l < n; ++l) {
     const double e = n > 1 ? 1.0 - 2.0 * l / (n - 1) : 0.0;
-    // Never past the descriptor's own range (the same product, rounded another way).
-    levels.push_back(
-        std::min(r * std::pow(c.scale_tolerance_factor, e), sketchDescriptorConfig(c).max_range_m));
+    levels.push_back(std::min(r * std::pow(c.scale_tolerance_factor, e), longest_m));
   }
   return levels;
 }

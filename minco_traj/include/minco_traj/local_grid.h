@@ -80,8 +80,12 @@ class LocalGrid {
   Eigen::Vector3d windowMin() const;  ///< lower corner of the window [m]
   Eigen::Vector3d windowMax() const;  ///< upper corner of the window [m]
   bool inWindow(const VoxelKey& k) const {
+    return inWindowXY(k) && k.z >= min_key_.z && k.z < min_key_.z + nz_;
+  }
+  /// Inside the window's horizontal extent, at any height.
+  bool inWindowXY(const VoxelKey& k) const {
     return k.x >= min_key_.x && k.x < min_key_.x + nx_ && k.y >= min_key_.y &&
-           k.y < min_key_.y + ny_ && k.z >= min_key_.z && k.z < min_key_.z + nz_;
+           k.y < min_key_.y + ny_;
   }
   bool inWindow(const Eigen::Vector3d& p) const { return inWindow(key(p)); }
 
@@ -156,7 +160,9 @@ class LocalGrid {
   /// seen from above, more than size_z_m / 2 below, and the LiDAR does not see it again from
   /// right above it (seen: two collisions with cave floors the exploration map held occupied).
   /// Farther hits are not kept: the vehicle sees them again on its way there.
-  void rememberHitAboveOrBelow(const VoxelKey& k);
+  void rememberHitAboveOrBelow(const VoxelKey& k, float logodds);
+  /// The log-odds change of a hit on a cell holding `logodds` (hit_overrides_free).
+  float hitDelta(float logodds) const;
   /// Brings remembered cells inside the window back into it (and out of the memory).
   void restoreRemembered();
   /// Drops memory blocks beyond memory_radius_m of the window centre.

@@ -185,6 +185,8 @@ class ExplorationManager {
   /// Sets viewpoint `id` aside until time_s + unreachable_retry_s; gives it up on its
   /// unreachable_attempts-th time.
   void setAside(int id, double time_s);
+  /// Set aside unreachable_attempts times: not planned for again.
+  bool givenUp(int id) const;
 
   ExplorationManagerConfig config_;
   std::optional<GuidepointPrior> prior_;
@@ -211,7 +213,6 @@ class ExplorationManager {
   /// How often each viewpoint (or opening) was set aside; those set aside unreachable_attempts
   /// times are given up (kept for the whole flight: a few bytes per viewpoint that ever failed).
   std::map<int, int> set_aside_count_;
-  std::set<int> given_up_ids_;
   /// Goal points the local planner gave up on, refused until the time given [s]; a goal within
   /// kRefusedGoalRadius_m of one is not sent (the same unreachable place, up to the robot's
   /// motion between plans).
