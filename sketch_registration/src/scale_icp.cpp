@@ -177,8 +177,9 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
   }
   r.num_points = static_cast<int>(d.size());
   if (r.num_points < config_.min_points) return r;
-  // Observations mostly outside the sketch: the transform put the sketch somewhere else.
-  if (static_cast<double>(d.size()) < config_.min_inside_ratio * observed.size()) return r;
+  // Observations mostly outside the sketch: the transform put the sketch somewhere else (valid
+  // says so), or the robot walked beyond a partial sketch (the caller decides which it believes).
+  r.inside_ratio = static_cast<double>(d.size()) / static_cast<double>(observed.size());
   const auto fwd = trimmedMean(d, config_.fitness_trim_ratio, config_.inlier_distance_m);
   r.coverage = fwd.second * static_cast<double>(d.size()) / static_cast<double>(observed.size());
   r.forward_fitness_m = fwd.first;
@@ -223,7 +224,8 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
     }
   }
   r.usable = true;
-  r.valid = r.inlier_ratio >= config_.min_inlier_ratio;
+  r.valid =
+      r.inlier_ratio >= config_.min_inlier_ratio && r.inside_ratio >= config_.min_inside_ratio;
   return r;
 }
 

@@ -50,6 +50,8 @@ void SketchRegistrationConfig::validate() const {
               "must be >= fitness_threshold_m (a kept hypothesis is held to a looser bound)");
   requireThat(kept_min_inlier_ratio >= 0.0 && kept_min_inlier_ratio <= icp.min_inlier_ratio,
               "kept_min_inlier_ratio", "must be in [0, min_inlier_ratio]");
+  requireThat(kept_min_inside_ratio >= 0.0 && kept_min_inside_ratio <= icp.min_inside_ratio,
+              "kept_min_inside_ratio", "must be in [0, min_inside_ratio]");
   requireInRange("confirm_frames", confirm_frames, 1, 100);
   requireInRange("confidence_tau", confidence_tau, 0.0, 1e3);
   requireInRange("settled_coverage", settled_coverage, 0.0, 1.0);
@@ -378,6 +380,16 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
   }
   const double narrow_m = 1.5 * config_.icp.min_correspondence_m;
   for (const Input& in : inputs) {
+    const bool confirmed = in.id && in.age >= config_.confirm_frames;
+    // A new transform must lay the sketch over icp.min_inside_ratio of the observation (else it
+    // put the sketch somewhere else); a reported one only over kept_min_inside_ratio: walking
+    // beyond a partial sketch, the true placement's share falls while what lies inside still
+    // fits (office drawn west of 30 m: 0.16-0.25 inside at F 0.03-0.04 m, inliers 0.86-0.89).
+    const double min_inside =
+        confirmed ? config_.kept_min_inside_ratio : config_.icp.min_inside_ratio;
+    const auto judged = [&](const IcpResult& x) {
+      return x.usable && x.inside_ratio >= min_inside;
+    };
     // Live hypotheses were refined last frame: a narrow capture radius suffices.
     IcpResult r = icp_->refine(in.T, icp_points, in.id ? narrow_m : 0.0, &observed);
     // A new input whose window fit is far from the new-hypothesis bounds is not refined again
@@ -385,7 +397,7 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
     // which the window's own refinement already optimised (on a 190 x 150 m garage ~120 inputs a
     // frame, most of them far off).
     if (use_history &&
-        (in.id || (r.usable &&
+        (in.id || (judged(r) &&
                    r.inlier_ratio >= config_.icp.min_inlier_ratio - config_.history_inlier_slack &&
                    r.fitness_m <= kJointFitnessFactor * config_.fitness_threshold_m))) {
       // A live hypothesis continues from its own (joint) transform: refined on the window first,
@@ -397,18 +409,17 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
                                                config_.icp.max_correspondence_m, &observed);
       // The window's own fit at the joint transform decides, as without a history.
       const IcpResult e = icp_->evaluate(g.T_world_sketch, icp_points, &observed);
-      if (e.usable &&
-          (!r.usable || e.inlier_ratio >= r.inlier_ratio - config_.history_inlier_slack)) {
+      if (judged(e) &&
+          (!judged(r) || e.inlier_ratio >= r.inlier_ratio - config_.history_inlier_slack)) {
         r = e;
       }
     }
     ++diag.icp_runs;
-    const bool confirmed = in.id && in.age >= config_.confirm_frames;
     const double max_fitness =
         confirmed ? config_.kept_fitness_threshold_m : config_.fitness_threshold_m;
     const double min_inliers =
         confirmed ? config_.kept_min_inlier_ratio : config_.icp.min_inlier_ratio;
-    if (!r.usable || !(r.inlier_ratio >= min_inliers) || !(r.fitness_m <= max_fitness)) {
+    if (!judged(r) || !(r.inlier_ratio >= min_inliers) || !(r.fitness_m <= max_fitness)) {
       if (!in.id) rejected_.push_back({in.T, frame_counter_});
       continue;
     }

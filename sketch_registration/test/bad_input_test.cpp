@@ -163,6 +163,12 @@ TEST(BadInput, ConfigValidationNamesTheKey) {
   c.kept_min_inlier_ratio = c.icp.min_inlier_ratio + 0.1;
   expectKey(c, "kept_min_inlier_ratio");
   c = {};
+  c.kept_min_inside_ratio = c.icp.min_inside_ratio + 0.1;
+  expectKey(c, "kept_min_inside_ratio");
+  c = {};
+  c.kept_min_inside_ratio = -0.1;
+  expectKey(c, "kept_min_inside_ratio");
+  c = {};
   c.settled_coverage = 1.5;
   expectKey(c, "settled_coverage");
   c = {};

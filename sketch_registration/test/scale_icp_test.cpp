@@ -212,5 +212,38 @@ TEST(ScaleIcp, CoverageCountsObservedWallsBeyondTheSketchAsUnexplained) {
   EXPECT_GT(shrunken.coverage, 0.25);
 }
 
+TEST(ScaleIcp, AFitMostlyOutsideAPartialSketchIsJudgedOnWhatLiesInside) {
+  // Rooms of 4 m in an 8 x 8 grid, the sketch drawn only for the 8 x 8 m corner: at the true
+  // placement most observed walls lie beyond the sketch's extent. The walls inside still fit, and
+  // the fit says so; valid says the observation is mostly outside (min_inside_ratio), which a
+  // caller holding a reported hypothesis may accept (SketchRegistrationConfig::
+  // kept_min_inside_ratio).
+  syn::FloorPlan plan;
+  for (int i = 0; i <= 8; ++i) {
+    plan.push_back({Vector2d(4.0 * i, 0.0), Vector2d(4.0 * i, 32.0)});
+    plan.push_back({Vector2d(0.0, 4.0 * i), Vector2d(32.0, 4.0 * i)});
+  }
+  Points2d sketch;
+  for (const Vector2d& p : syn::samplePlan(plan, 0.1)) {
+    if (p.x() <= 8.0 && p.y() <= 8.0) sketch.push_back(p);
+  }
+  const Points2d observed = syn::samplePlan(plan, 0.25);
+  ScaleIcpConfig config;
+  config.reverse_range_m = 0.0;
+  const IcpResult r = ScaleIcp(sketch, config).evaluate(Sim2(), observed);
+  EXPECT_TRUE(r.usable);
+  EXPECT_FALSE(r.valid);
+  // The extent is the corner plus the 3 m margin, x and y in [-3, 11]: 3 of the 9 lines each
+  // way, 45 of their 129 samples.
+  EXPECT_NEAR(r.inside_ratio, 3.0 / 9.0 * 45.0 / 129.0, 0.01);
+  EXPECT_LT(r.inside_ratio, config.min_inside_ratio);
+  // Inside, only the margin's stubs of the undrawn walls (x or y in (9, 11]) are off the sketch.
+  EXPECT_GT(r.inlier_ratio, config.min_inlier_ratio);
+  EXPECT_LT(r.fitness_m, 0.2);
+  // Held to a lower inside bound, the same fit is valid.
+  config.min_inside_ratio = 0.1;
+  EXPECT_TRUE(ScaleIcp(sketch, config).evaluate(Sim2(), observed).valid);
+}
+
 }  // namespace
 }  // namespace efs::registration

@@ -42,10 +42,11 @@
 // --reference: a placement of a real sketch found offline, for the diagnostics above only (its
 //   success is still judged by the wall fit).
 // Registration parameters for ablations: --eta, --fitness-threshold-m, --min-inlier-ratio,
-// --kept-fitness-threshold-m, --kept-min-inlier-ratio, --inlier-distance-m, --slice-min-dz-m,
-// --slice-max-dz-m, --wall-columns 0|1, --column-cell-m, --wall-min-height-m, --wall-max-gap-m,
-// --icp-range-m, --max-range-m, --unknown-empty-bins 0|1, --clip-to-range 0|1, --scale-levels,
-// --sketch-point-radius-m, --settled-coverage, --coverage-weight-m, --history 0|1.
+// --kept-fitness-threshold-m, --kept-min-inlier-ratio, --kept-min-inside-ratio,
+// --inlier-distance-m, --slice-min-dz-m, --slice-max-dz-m, --wall-columns 0|1, --column-cell-m,
+// --wall-min-height-m, --wall-max-gap-m, --icp-range-m, --max-range-m, --unknown-empty-bins 0|1,
+// --clip-to-range 0|1, --scale-levels, --sketch-point-radius-m, --settled-coverage,
+// --coverage-weight-m, --history 0|1.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -891,9 +892,10 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
         std::fprintf(
             stderr,
             "           truth: F %.2f (forward %.2f, reverse %.2f), inliers %.2f, coverage "
-            "%.2f, %d points, valid %d; history %d in %d, inliers %.2f\n",
+            "%.2f, %d points (%.2f inside the sketch), valid %d; history %d in %d, inliers "
+            "%.2f\n",
             e.fitness_m, e.forward_fitness_m, e.reverse_fitness_m, e.inlier_ratio, e.coverage,
-            e.num_points, e.valid, hf.inside, hf.points, hf.inlierRatio());
+            e.num_points, e.inside_ratio, e.valid, hf.inside, hf.points, hf.inlierRatio());
         diagnostics->frame(p.head<2>(), r, registration, obs, index);
       }
     }
@@ -946,6 +948,7 @@ Options parse(int argc, char** argv) {
                         "wall-columns",
                         "kept-fitness-threshold-m",
                         "kept-min-inlier-ratio",
+                        "kept-min-inside-ratio",
                         "inlier-distance-m",
                         "column-cell-m",
                         "wall-min-height-m",
@@ -1014,6 +1017,8 @@ Options parse(int argc, char** argv) {
       args.number("inlier-distance-m", o.registration.icp.inlier_distance_m);
   o.registration.kept_min_inlier_ratio =
       args.number("kept-min-inlier-ratio", o.registration.kept_min_inlier_ratio);
+  o.registration.kept_min_inside_ratio =
+      args.number("kept-min-inside-ratio", o.registration.kept_min_inside_ratio);
   o.registration.observation.wall_columns =
       args.integer("wall-columns", o.registration.observation.wall_columns ? 1 : 0) != 0;
   o.registration.observation.column_cell_m =

@@ -38,7 +38,11 @@ struct ScaleIcpConfig {
   double sketch_margin_m = 3.0;       ///< sketch frame, around the sketch's bounding box
   int min_points = 20;                ///< observed points inside the sketch needed
   bool reject_scale_at_bound = true;  ///< a refined scale pinned to scale_min/max is invalid
-  double min_inside_ratio = 0.3;      ///< of the observed points (a partial sketch covers less)
+  /// Share of the observed points that must lie within the sketch's extent (bounding box +
+  /// sketch_margin_m) for a valid fit: below it the transform laid the sketch somewhere else. A
+  /// partial sketch covers less; a correct fit of one whose robot walked beyond the drawn part
+  /// covers less still (IcpResult::inside_ratio).
+  double min_inside_ratio = 0.3;
   /// Reverse term (the paper's direction, prior -> observation): sketch points visible from the
   /// robot within this world range must have an observed point nearby. Catches transforms that
   /// put sketch walls where the LiDAR saw free space. 0 disables.
@@ -77,10 +81,16 @@ struct IcpResult {
   /// Share of all observed points within inlier_distance_m of the mapped sketch, those outside
   /// the sketch's extent counted as unexplained.
   double coverage = 0.0;
+  /// Share of the observed points within the sketch's extent (those the fit is judged on).
+  double inside_ratio = 0.0;
   int iterations = 0;
-  int num_points = 0;           ///< observed points used
-  bool valid = false;           ///< usable and inlier_ratio >= min_inlier_ratio
-  bool usable = false;          ///< enough observed points inside the sketch, scale not pinned
+  int num_points = 0;  ///< observed points used (those within the sketch's extent)
+  /// usable, inlier_ratio >= min_inlier_ratio and inside_ratio >= min_inside_ratio
+  bool valid = false;
+  /// At least min_points observed points inside the sketch and the scale not pinned: F, the
+  /// inlier ratio and the coverage are computed (whatever the inside ratio; callers that hold a
+  /// fit to another inside bound than min_inside_ratio check inside_ratio themselves).
+  bool usable = false;
   bool scale_at_bound = false;  ///< refine() ended on scale_min or scale_max
 };
 

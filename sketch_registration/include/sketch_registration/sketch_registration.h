@@ -123,6 +123,13 @@ struct SketchRegistrationConfig {
   /// place.
   double kept_fitness_threshold_m = 0.8;
   double kept_min_inlier_ratio = 0.6;
+  /// The same hysteresis for the share of the observation within the sketch's extent (a new
+  /// hypothesis: icp.min_inside_ratio). Beyond a partial sketch the true placement's share falls
+  /// with every metre walked while the walls inside still fit: an office drawn west of 30 m lost
+  /// its true placement for 3 frames at 0.16-0.25 inside (F 0.03-0.04 m, inliers 0.86-0.89). 0:
+  /// a reported hypothesis is judged on the observed walls inside the sketch alone (at least
+  /// icp.min_points of them), by the kept F and inlier bounds.
+  double kept_min_inside_ratio = 0.0;
   /// Coverage (IcpResult::coverage) is the share of the observation a hypothesis explains, with
   /// observed walls beyond the sketch's extent unexplained. F alone does not tell a hand drawing
   /// laid shrunken on an office's repetitive walls from its true placement (ed21_1: F 0.27-0.54 m
