@@ -328,6 +328,17 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
     Sim2 T;
   };
   std::vector<Input> inputs;
+  // Expire rejections before this frame's representatives are checked against them: a transform
+  // rejected on frame k waits icp_retry_frames frames and is refined again on frame
+  // k + icp_retry_frames + 1 (expired after the check, it waited one frame more, and with 0 it
+  // still skipped the next frame).
+  ++frame_counter_;
+  rejected_.erase(std::remove_if(rejected_.begin(), rejected_.end(),
+                                 [&](const Rejected& x) {
+                                   return frame_counter_ - x.frame >
+                                          static_cast<size_t>(config_.icp_retry_frames);
+                                 }),
+                  rejected_.end());
   for (const Hypothesis& h : live_) inputs.push_back({h.id, h.age_frames, h.T_world_sketch});
   for (const Dormant& d : dormant_) inputs.push_back({d.h.id, d.h.age_frames, d.h.T_world_sketch});
   int added = 0;
@@ -362,13 +373,6 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
     IcpResult r;
     HistoryFit history;
   };
-  ++frame_counter_;
-  rejected_.erase(std::remove_if(rejected_.begin(), rejected_.end(),
-                                 [&](const Rejected& x) {
-                                   return frame_counter_ - x.frame >
-                                          static_cast<size_t>(config_.icp_retry_frames);
-                                 }),
-                  rejected_.end());
   std::vector<Refined> refined;
   // Walls seen earlier beyond the window join the refinement: they pin the scale and yaw that
   // the window leaves loose (see observation_history.h).

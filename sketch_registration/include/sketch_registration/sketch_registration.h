@@ -155,7 +155,7 @@ struct SketchRegistrationConfig {
   double max_speed_mps = 20.0;  ///< faster between frames = odometry jump
   ReflectionMode reflection = ReflectionMode::kDetect;
   int max_icp_inputs = 8;         ///< new representatives refined per frame
-  int icp_retry_frames = 3;       ///< a rejected transform is retried after this many frames
+  int icp_retry_frames = 3;       ///< a rejected transform waits this many frames (0: retried next)
   int mirror_min_age_frames = 2;  ///< kMirroredSketch only once a mirror fit has persisted
   int max_hypotheses = 10;
   double merge_distance = 10.0;  ///< d_T below which refined hypotheses are one
