@@ -247,6 +247,8 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
   for (const Bound& b : bounds) {
     if (top.size() >= k && b.value <= top.begin()->first) break;
     const size_t i = static_cast<size_t>(b.index);
+    // Another level of a candidate already scored only matters if it may beat that score.
+    if (scored[i] && b.value <= best[i].score) continue;
     Candidate c = score(i, b.level, observed, tables, w, try_reversed, scratch);
     if (scored[i]) {
       if (!(c.score > best[i].score)) continue;

@@ -119,6 +119,40 @@ TEST(Retrieval, SketchCutAtTheObservationsRangeFindsTheDeck) {
   EXPECT_GT(levels, legacy + 0.1);
 }
 
+TEST(Retrieval, RankIsTheTopOfTheExhaustiveScoring) {
+  // rank() skips the shift search wherever the shift-invariant factors bound the score below
+  // what is already held (the k-th best, or the candidate's own best level): it must return
+  // exactly the k best that scoring every candidate at every level gives, mirror images too.
+  const syn::Scenario sc = deckAt(Sim2(0.7, 1.6, Vector2d(12.0, -5.0)));
+  SketchRegistrationConfig config;
+  config.descriptor.clip_to_range = true;
+  const CandidateDatabase db(sc.sketch_points_m, sc.candidates_m, sketchDescriptorConfig(config),
+                             sketchRangeLevelsM(config));
+  ASSERT_GT(db.rangeLevelsM().size(), 1u);
+  DescriptorConfig observed_config;
+  observed_config.max_range_m = 30.0;
+  observed_config.clip_to_range = true;
+  const size_t k = static_cast<size_t>(std::ceil(0.05 * static_cast<double>(db.validCount())));
+  int compared = 0;
+  for (size_t f = 0; f < sc.path_world_m.size(); f += 7) {
+    const Vector2d p = sc.path_world_m[f];
+    const GeoContext observed =
+        computeGeoContext(syn::castRays(sc.world_plan, p, 1440, 30.0), p, observed_config);
+    if (!observed.valid) continue;
+    for (const bool mirrored : {false, true}) {
+      const std::vector<Candidate> ranked = db.rank(observed, k, SimilarityWeights{}, mirrored);
+      const std::vector<Candidate> all = db.scoreAll(observed, SimilarityWeights{}, mirrored);
+      ASSERT_EQ(ranked.size(), k);
+      for (size_t j = 0; j < k; ++j) {
+        EXPECT_EQ(ranked[j].index, all[j].index) << "frame " << f << ", place " << j;
+        EXPECT_DOUBLE_EQ(ranked[j].score, all[j].score) << "frame " << f << ", place " << j;
+      }
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 6);
+}
+
 TEST(Retrieval, RangeLevelsSpanTheScaleTolerance) {
   SketchRegistrationConfig config;
   config.scale_guess = 2.0;
