@@ -163,28 +163,26 @@ GeoContext CandidateDatabase::descriptorAtLevel(size_t i, int l) const {
   return d;
 }
 
-double CandidateDatabase::bound(size_t i, int l, const GeoContext& observed,
-                                const SimilarityWeights& w) const {
+CandidateDatabase::Invariants CandidateDatabase::invariants(size_t i, int l,
+                                                            const GeoContext& observed) const {
   const LevelFeatures& f = level(i, l);
-  const double s_cv = cvSimilarity(f.cv, observed.cv);
-  return combineSimilarity(1.0, fftSimilarity(f.fft_magnitude, observed.fft_magnitude), s_cv, w);
+  return {fftSimilarity(f.fft_magnitude, observed.fft_magnitude), cvSimilarity(f.cv, observed.cv)};
 }
 
-Candidate CandidateDatabase::score(size_t i, int l, const GeoContext& observed,
+Candidate CandidateDatabase::score(size_t i, int l, const Invariants& inv,
                                    const ShiftTables& tables, const SimilarityWeights& w,
                                    bool try_reversed, GeoContext& scratch) const {
   Candidate c;
   c.index = static_cast<int>(i);
   c.c_sketch = locations_[i];
   c.range_level = l;
-  const LevelFeatures& f = level(i, l);
-  if (!f.valid || !observed.valid) return c;
+  if (!level(i, l).valid || tables.n == 0) return c;
   cutAt(descriptors_[i], levels_m_[static_cast<size_t>(l)], scratch);
   const ShiftMatch m =
       bestColumnShiftCoarseToFine(scratch, tables, try_reversed, config_.coarse_shift_keep);
   c.s_cos = m.score;
-  c.s_fft = fftSimilarity(f.fft_magnitude, observed.fft_magnitude);
-  c.s_cv = cvSimilarity(f.cv, observed.cv);
+  c.s_fft = inv.s_fft;
+  c.s_cv = inv.s_cv;
   c.score = combineSimilarity(c.s_cos, c.s_fft, c.s_cv, w);
   c.yaw_rad = m.yaw_rad;
   c.reflected = m.reversed;
@@ -202,9 +200,9 @@ std::vector<Candidate> CandidateDatabase::scoreAll(const GeoContext& observed,
   GeoContext scratch;
   out.reserve(size());
   for (size_t i = 0; i < size(); ++i) {
-    Candidate best = score(i, 0, observed, tables, w, try_reversed, scratch);
+    Candidate best = score(i, 0, invariants(i, 0, observed), tables, w, try_reversed, scratch);
     for (int l = 1; l < static_cast<int>(levels_m_.size()); ++l) {
-      const Candidate c = score(i, l, observed, tables, w, try_reversed, scratch);
+      const Candidate c = score(i, l, invariants(i, l, observed), tables, w, try_reversed, scratch);
       if (c.score > best.score) best = c;
     }
     out.push_back(best);
@@ -223,21 +221,26 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
     return out;
   }
   // Upper bound of S with S_cos <= 1 for every (candidate, level); visit in decreasing bound, stop
-  // once the bound cannot beat the k-th best candidate's exact score (its best level).
+  // once the bound cannot beat the k-th best candidate's exact score (its best level). A pair is
+  // i * levels + l, so ties visit candidates, then levels, in order.
+  const size_t nl = levels_m_.size();
   struct Bound {
     double value;
-    int index, level;
+    size_t pair;
   };
   std::vector<Bound> bounds;
-  bounds.reserve(size() * levels_m_.size());
+  bounds.reserve(size() * nl);
+  std::vector<Invariants> inv(size() * nl);
   for (size_t i = 0; i < size(); ++i) {
-    for (int l = 0; l < static_cast<int>(levels_m_.size()); ++l) {
-      if (level(i, l).valid) bounds.push_back({bound(i, l, observed, w), static_cast<int>(i), l});
+    for (int l = 0; l < static_cast<int>(nl); ++l) {
+      if (!level(i, l).valid) continue;
+      const size_t pair = i * nl + static_cast<size_t>(l);
+      inv[pair] = invariants(i, l, observed);
+      bounds.push_back({combineSimilarity(1.0, inv[pair].s_fft, inv[pair].s_cv, w), pair});
     }
   }
   std::sort(bounds.begin(), bounds.end(), [](const Bound& a, const Bound& b) {
-    return a.value > b.value ||
-           (a.value == b.value && (a.index < b.index || (a.index == b.index && a.level < b.level)));
+    return a.value > b.value || (a.value == b.value && a.pair < b.pair);
   });
   const ShiftTables tables(observed, config_.empty_observed_bins_unknown);
   GeoContext scratch;
@@ -246,17 +249,18 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
   std::set<std::pair<double, int>> top;  // the k best (score, index), ascending
   for (const Bound& b : bounds) {
     if (top.size() >= k && b.value <= top.begin()->first) break;
-    const size_t i = static_cast<size_t>(b.index);
+    const size_t i = b.pair / nl;
     // Another level of a candidate already scored only matters if it may beat that score.
     if (scored[i] && b.value <= best[i].score) continue;
-    Candidate c = score(i, b.level, observed, tables, w, try_reversed, scratch);
+    const int l = static_cast<int>(b.pair % nl);
+    Candidate c = score(i, l, inv[b.pair], tables, w, try_reversed, scratch);
     if (scored[i]) {
       if (!(c.score > best[i].score)) continue;
-      top.erase({best[i].score, b.index});  // absent when it was trimmed: no-op
+      top.erase({best[i].score, static_cast<int>(i)});  // absent when it was trimmed: no-op
     }
     scored[i] = 1;
     best[i] = c;
-    top.emplace(c.score, b.index);
+    top.emplace(c.score, static_cast<int>(i));
     if (top.size() > k) top.erase(top.begin());
   }
   out.reserve(top.size());

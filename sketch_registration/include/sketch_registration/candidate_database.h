@@ -86,9 +86,13 @@ class CandidateDatabase {
   const LevelFeatures& level(size_t i, int l) const {
     return level_features_[i * levels_m_.size() + static_cast<size_t>(l)];
   }
-  /// Upper bound of the combined score (S_cos <= 1) of candidate i at level l.
-  double bound(size_t i, int l, const GeoContext& observed, const SimilarityWeights& w) const;
-  Candidate score(size_t i, int l, const GeoContext& observed, const ShiftTables& tables,
+  /// The shift-invariant factors of S for candidate i at level l: computed once per frame, they
+  /// bound the score (with S_cos <= 1) and complete it after the shift search.
+  struct Invariants {
+    double s_fft = 0.0, s_cv = 0.0;
+  };
+  Invariants invariants(size_t i, int l, const GeoContext& observed) const;
+  Candidate score(size_t i, int l, const Invariants& inv, const ShiftTables& tables,
                   const SimilarityWeights& w, bool try_reversed, GeoContext& scratch) const;
   DescriptorConfig config_;
   Points2d locations_;
