@@ -500,6 +500,9 @@ TEST(ExplorationManager, ConfigErrorsNameTheKey) {
   c = {};
   c.planner.fe_tsp.v_max_mps = 0.0;
   expectKey(c, "v_max");
+  c = {};
+  c.openings.search_radius_m = 0.0;
+  expectKey(c, "search_radius_m");
 }
 
 TEST(ExplorationManager, MalformedPriorIsRefused) {

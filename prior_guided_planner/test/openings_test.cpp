@@ -67,6 +67,18 @@ TEST(Openings, AClosedRoomHasNoneAndTheBoxEdgeIsNone) {
   EXPECT_TRUE(findOpenings(occ, {-4, 0, 1.5}, std::nullopt, near).empty());
 }
 
+// Openings are toured once no surface viewpoint is left, all of them: a door 100 m from the
+// vehicle is one too (at a 60 m range the far ones of a large building came and went with the
+// vehicle, which crossed it once per leftover).
+TEST(Openings, ADoorFarFromTheVehicleIsFoundWithTheDefaults) {
+  const OccupancyMap occ = scanned(true);
+  const std::vector<Opening> near = findOpenings(occ, {0, 0, 1.5}, std::nullopt);
+  const std::vector<Opening> far = findOpenings(occ, {-100, 0, 1.5}, std::nullopt);
+  ASSERT_FALSE(near.empty());
+  ASSERT_EQ(far.size(), near.size());
+  EXPECT_EQ(far.front().id, near.front().id);
+}
+
 // A sensor that sees nothing more than 20 deg below the horizon (the Mid-360 pitched 15 deg)
 // leaves the floor near it unknown: an opening there borders unknown space below too, and its
 // viewpoint must still be a place to hover, a known-free ball, never a cell above an unseen
