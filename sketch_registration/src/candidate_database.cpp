@@ -129,9 +129,9 @@ CandidateDatabase::CandidateDatabase(const Points2d& sketch_points_m, Points2d c
   for (size_t j = 0; j < locations_.size(); ++j) {
     bool any = false;
     for (int l = 0; l < static_cast<int>(levels_m_.size()); ++l) {
-      const GeoContext d = descriptorAtLevel(j, l);
+      GeoContext d = descriptorAtLevel(j, l);
       LevelFeatures& f = level_features_[j * levels_m_.size() + static_cast<size_t>(l)];
-      f.fft_magnitude = d.fft_magnitude;
+      f.fft_magnitude = std::move(d.fft_magnitude);
       f.cv = d.cv;
       f.valid = d.valid;
       any |= d.valid;
@@ -244,21 +244,20 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
   });
   const ShiftTables tables(observed, config_.empty_observed_bins_unknown);
   GeoContext scratch;
-  std::vector<Candidate> best(size());
-  std::vector<char> scored(size(), 0);
+  std::vector<Candidate> best(size());   // index -1 until scored
   std::set<std::pair<double, int>> top;  // the k best (score, index), ascending
   for (const Bound& b : bounds) {
     if (top.size() >= k && b.value <= top.begin()->first) break;
     const size_t i = b.pair / nl;
+    const bool scored = best[i].index >= 0;
     // Another level of a candidate already scored only matters if it may beat that score.
-    if (scored[i] && b.value <= best[i].score) continue;
+    if (scored && b.value <= best[i].score) continue;
     const int l = static_cast<int>(b.pair % nl);
     Candidate c = score(i, l, inv[b.pair], tables, w, try_reversed, scratch);
-    if (scored[i]) {
+    if (scored) {
       if (!(c.score > best[i].score)) continue;
       top.erase({best[i].score, static_cast<int>(i)});  // absent when it was trimmed: no-op
     }
-    scored[i] = 1;
     best[i] = c;
     top.emplace(c.score, static_cast<int>(i));
     if (top.size() > k) top.erase(top.begin());

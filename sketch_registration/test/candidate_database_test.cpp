@@ -56,6 +56,19 @@ syn::Scenario deckAt(const Sim2& T) {
   return syn::makeScenario(plan, solids, lo, hi, T, waypoints, 0.1, 1.0, 4.0);
 }
 
+/// The observation's descriptor config: it sees `range_m` (world metres), cut there or not.
+DescriptorConfig observedConfig(double range_m, bool clip_to_range) {
+  DescriptorConfig c;
+  c.max_range_m = range_m;
+  c.clip_to_range = clip_to_range;
+  return c;
+}
+
+/// eta = 5 % of the database's valid candidates, as retrieval ranks them.
+size_t topFivePercent(const CandidateDatabase& db) {
+  return static_cast<size_t>(std::ceil(0.05 * static_cast<double>(db.validCount())));
+}
+
 /// Share of the robot's positions at which a candidate within 4 m (sketch) of the truth is among
 /// the top 5 % of all candidates. The observation sees `observed_range_m` (world metres), cut
 /// at it (clip_to_range) as the sketch is; `range_levels_m` go to the database.
@@ -63,10 +76,9 @@ double topFiveShare(const syn::Scenario& sc, const DescriptorConfig& sketch_conf
                     double observed_range_m, std::vector<double> range_levels_m = {}) {
   const CandidateDatabase db(sc.sketch_points_m, sc.candidates_m, sketch_config,
                              std::move(range_levels_m));
-  DescriptorConfig observed_config;
-  observed_config.max_range_m = observed_range_m;
-  observed_config.clip_to_range = sketch_config.clip_to_range;
-  const size_t k = static_cast<size_t>(std::ceil(0.05 * static_cast<double>(db.validCount())));
+  const DescriptorConfig observed_config =
+      observedConfig(observed_range_m, sketch_config.clip_to_range);
+  const size_t k = topFivePercent(db);
   int hits = 0, frames = 0;
   for (const Vector2d& p : sc.path_world_m) {
     const Points2d seen = syn::castRays(sc.world_plan, p, 1440, observed_range_m);
@@ -129,10 +141,8 @@ TEST(Retrieval, RankIsTheTopOfTheExhaustiveScoring) {
   const CandidateDatabase db(sc.sketch_points_m, sc.candidates_m, sketchDescriptorConfig(config),
                              sketchRangeLevelsM(config));
   ASSERT_GT(db.rangeLevelsM().size(), 1u);
-  DescriptorConfig observed_config;
-  observed_config.max_range_m = 30.0;
-  observed_config.clip_to_range = true;
-  const size_t k = static_cast<size_t>(std::ceil(0.05 * static_cast<double>(db.validCount())));
+  const DescriptorConfig observed_config = observedConfig(30.0, true);
+  const size_t k = topFivePercent(db);
   int compared = 0;
   for (size_t f = 0; f < sc.path_world_m.size(); f += 7) {
     const Vector2d p = sc.path_world_m[f];

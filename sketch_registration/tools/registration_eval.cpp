@@ -548,20 +548,29 @@ void dumpFrame(const std::string& dir, uint64_t seed, double t_s,
     }
     txt << "\n";
   }
-  // A candidate's descriptor as it was compared: cut at its best range level.
+  // A candidate's descriptor as it was compared: cut at its best range level (written to the
+  // text and drawn in the picture).
   const auto levelOf = [&](const reg::Candidate& c) {
     return db.descriptorAtLevel(static_cast<size_t>(c.index), c.range_level);
   };
-  const auto describe = [&](const char* what, const reg::Candidate& c, size_t rank) {
+  const auto describe = [&](const char* what, const reg::Candidate& c, size_t rank,
+                            const reg::GeoContext& prior) {
     txt << what << " index " << c.index << " at " << c.c_sketch.transpose() << " rank " << rank
         << " / " << all.size() << " S " << c.score << " cos " << c.s_cos << " fft " << c.s_fft
-        << " cv " << c.s_cv << " (prior cv " << levelOf(c).cv << ") yaw " << c.yaw_rad
-        << " reflected " << c.reflected << " range level "
-        << db.rangeLevelsM()[static_cast<size_t>(c.range_level)] << " m\n"
-        << vec(levelOf(c).range_m) << "\n";
+        << " cv " << c.s_cv << " (prior cv " << prior.cv << ") yaw " << c.yaw_rad << " reflected "
+        << c.reflected << " range level " << db.rangeLevelsM()[static_cast<size_t>(c.range_level)]
+        << " m\n"
+        << vec(prior.range_m) << "\n";
   };
-  if (truth_rank < all.size()) describe("truth", all[truth_rank], truth_rank);
-  if (!all.empty()) describe("top", all.front(), 0);
+  std::optional<reg::GeoContext> truth_prior, top_prior;
+  if (truth_rank < all.size()) {
+    truth_prior = levelOf(all[truth_rank]);
+    describe("truth", all[truth_rank], truth_rank, *truth_prior);
+  }
+  if (!all.empty()) {
+    top_prior = levelOf(all.front());
+    describe("top", all.front(), 0, *top_prior);
+  }
 
   constexpr double kMpp = 0.1;
   constexpr int kSize = 700;
@@ -585,11 +594,8 @@ void dumpFrame(const std::string& dir, uint64_t seed, double t_s,
     cv::polylines(img, poly, true, colour, 1);
   };
   polar(observed.range_m, 0.0, 1.0, {0, 0, 255});
-  if (!all.empty())
-    polar(levelOf(all.front()).range_m, all.front().yaw_rad, T_truth.scale, {0, 140, 255});
-  if (truth_rank < all.size()) {
-    polar(levelOf(all[truth_rank]).range_m, T_truth.yaw_rad, T_truth.scale, {0, 170, 0});
-  }
+  if (top_prior) polar(top_prior->range_m, all.front().yaw_rad, T_truth.scale, {0, 140, 255});
+  if (truth_prior) polar(truth_prior->range_m, T_truth.yaw_rad, T_truth.scale, {0, 170, 0});
   cv::circle(img, px(robot_m), 4, {255, 0, 0}, -1);
   cv::imwrite(stem + ".png", img);
 }
