@@ -97,10 +97,13 @@ CandidateDatabase::CandidateDatabase(const Points2d& sketch_points_m, Points2d c
   for (const auto& c : candidates_m) {
     if (c.allFinite()) locations_.push_back(c);
   }
-  descriptors_.resize(locations_.size());
-  if (finite_points.empty()) {
-    for (auto& d : descriptors_) d.range_m.assign(static_cast<size_t>(config_.num_bins), 0.0f);
-  } else {
+  n_fine_ = static_cast<size_t>(config_.num_bins);
+  n_coarse_ = config_.coarse_shift_factor > 1
+                  ? static_cast<size_t>(config_.num_bins / config_.coarse_shift_factor)
+                  : 0;
+  stride_ = n_fine_ + n_coarse_;
+  ranges_.assign(locations_.size() * stride_, 0.0f);
+  if (!finite_points.empty()) {
     const double cell = std::max(1.0, config_.max_range_m / 8.0);
     const BucketGrid grid(finite_points, cell);
     PolarDepthBuffer buffer(config_.hprConfig());
@@ -120,7 +123,10 @@ CandidateDatabase::CandidateDatabase(const Points2d& sketch_points_m, Points2d c
           }
         }
       }
-      descriptors_[j] = geoContextFromBuffer(buffer, config_);
+      const GeoContext d = geoContextFromBuffer(buffer, config_);
+      float* to = ranges_.data() + j * stride_;
+      std::copy(d.range_m.begin(), d.range_m.end(), to);
+      std::copy(d.coarse_range_m.begin(), d.coarse_range_m.end(), to + n_fine_);
     }
   }
   // The shift-invariant features of every level, so that retrieval can bound each (candidate,
@@ -140,50 +146,63 @@ CandidateDatabase::CandidateDatabase(const Points2d& sketch_points_m, Points2d c
   }
 }
 
-namespace {
-/// `base` cut at range r: min(range, r) per bin. The maximum over a bin's fine bins commutes
-/// with the cut, so the coarse (max-pooled) descriptor is cut alike.
-void cutAt(const GeoContext& base, double r, GeoContext& out) {
-  const float rf = static_cast<float>(r);
-  const auto cut = [rf](const std::vector<float>& in, std::vector<float>& to) {
-    to.resize(in.size());
-    std::transform(in.begin(), in.end(), to.begin(), [rf](float x) { return std::min(x, rf); });
+/// The descriptor cut at range r: min(range, r) per bin. The maximum over a bin's fine bins
+/// commutes with the cut, so the coarse (max-pooled) descriptor is cut alike.
+void CandidateDatabase::cutAt(size_t i, int l, GeoContext& out) const {
+  const float r = static_cast<float>(levels_m_[static_cast<size_t>(l)]);
+  const auto cut = [r](const float* in, size_t n, std::vector<float>& to) {
+    to.resize(n);
+    std::transform(in, in + n, to.begin(), [r](float x) { return std::min(x, r); });
   };
-  cut(base.range_m, out.range_m);
-  cut(base.coarse_range_m, out.coarse_range_m);
+  cut(ranges(i), n_fine_, out.range_m);
+  cut(ranges(i) + n_fine_, n_coarse_, out.coarse_range_m);
 }
-}  // namespace
 
 GeoContext CandidateDatabase::descriptorAtLevel(size_t i, int l) const {
   GeoContext d;
-  cutAt(descriptors_[i], levels_m_[static_cast<size_t>(l)], d);
+  cutAt(i, l, d);
   DescriptorConfig c = config_;
   c.max_range_m = levels_m_[static_cast<size_t>(l)];
   computeFeatures(d, c);
   return d;
 }
 
+Candidate CandidateDatabase::unscored(size_t i, int l) const {
+  Candidate c;
+  c.index = static_cast<int>(i);
+  c.c_sketch = locations_[i];
+  c.range_level = l;
+  return c;
+}
+
+double CandidateDatabase::Invariants::combined(double s_cos, const SimilarityWeights& w) const {
+  return std::pow(std::max(0.0, s_cos), w.alpha_cos) * fft_factor * cv_factor;
+}
+
 CandidateDatabase::Invariants CandidateDatabase::invariants(size_t i, int l,
-                                                            const GeoContext& observed) const {
+                                                            const GeoContext& observed,
+                                                            const SimilarityWeights& w) const {
   const LevelFeatures& f = level(i, l);
-  return {fftSimilarity(f.fft_magnitude, observed.fft_magnitude), cvSimilarity(f.cv, observed.cv)};
+  Invariants inv;
+  inv.s_fft = fftSimilarity(f.fft_magnitude, observed.fft_magnitude);
+  inv.s_cv = cvSimilarity(f.cv, observed.cv);
+  inv.fft_factor = std::pow(std::max(0.0, inv.s_fft), w.alpha_fft);
+  inv.cv_factor = std::pow(std::max(0.0, inv.s_cv), w.alpha_cv);
+  return inv;
 }
 
 Candidate CandidateDatabase::score(size_t i, int l, const Invariants& inv,
                                    const ShiftTables& tables, const SimilarityWeights& w,
                                    bool try_reversed, GeoContext& scratch) const {
-  Candidate c;
-  c.index = static_cast<int>(i);
-  c.c_sketch = locations_[i];
-  c.range_level = l;
-  if (!level(i, l).valid || tables.n == 0) return c;
-  cutAt(descriptors_[i], levels_m_[static_cast<size_t>(l)], scratch);
+  Candidate c = unscored(i, l);
+  if (tables.n == 0) return c;
+  cutAt(i, l, scratch);
   const ShiftMatch m =
       bestColumnShiftCoarseToFine(scratch, tables, try_reversed, config_.coarse_shift_keep);
   c.s_cos = m.score;
   c.s_fft = inv.s_fft;
   c.s_cv = inv.s_cv;
-  c.score = combineSimilarity(c.s_cos, c.s_fft, c.s_cv, w);
+  c.score = inv.combined(c.s_cos, w);
   c.yaw_rad = m.yaw_rad;
   c.reflected = m.reversed;
   return c;
@@ -199,10 +218,15 @@ std::vector<Candidate> CandidateDatabase::scoreAll(const GeoContext& observed,
   const ShiftTables tables(observed, config_.empty_observed_bins_unknown);
   GeoContext scratch;
   out.reserve(size());
+  const auto scoreAt = [&](size_t i, int l) {
+    return level(i, l).valid
+               ? score(i, l, invariants(i, l, observed, w), tables, w, try_reversed, scratch)
+               : unscored(i, l);
+  };
   for (size_t i = 0; i < size(); ++i) {
-    Candidate best = score(i, 0, invariants(i, 0, observed), tables, w, try_reversed, scratch);
+    Candidate best = scoreAt(i, 0);
     for (int l = 1; l < static_cast<int>(levels_m_.size()); ++l) {
-      const Candidate c = score(i, l, invariants(i, l, observed), tables, w, try_reversed, scratch);
+      const Candidate c = scoreAt(i, l);
       if (c.score > best.score) best = c;
     }
     out.push_back(best);
@@ -235,8 +259,8 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
     for (int l = 0; l < static_cast<int>(nl); ++l) {
       if (!level(i, l).valid) continue;
       const size_t pair = i * nl + static_cast<size_t>(l);
-      inv[pair] = invariants(i, l, observed);
-      bounds.push_back({combineSimilarity(1.0, inv[pair].s_fft, inv[pair].s_cv, w), pair});
+      inv[pair] = invariants(i, l, observed, w);
+      bounds.push_back({inv[pair].combined(1.0, w), pair});
     }
   }
   std::sort(bounds.begin(), bounds.end(), [](const Bound& a, const Bound& b) {
@@ -244,21 +268,37 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
   });
   const ShiftTables tables(observed, config_.empty_observed_bins_unknown);
   GeoContext scratch;
-  std::vector<Candidate> best(size());   // index -1 until scored
+  std::vector<Candidate> best(size());
+  // best[i].score where candidate i is scored, -1 until then: the loop reads it for every pair
+  // visited, in bound order (candidates at random), so it is kept dense.
+  std::vector<double> best_score(size(), -1.0);
   std::set<std::pair<double, int>> top;  // the k best (score, index), ascending
-  for (const Bound& b : bounds) {
+  // The pairs come in bound order, not memory order: what the pair kPrefetch ahead reads is
+  // fetched while this one is scored.
+  constexpr size_t kPrefetch = 4;
+  const size_t line_floats = 64 / sizeof(float);
+  for (size_t j = 0; j < bounds.size(); ++j) {
+    const Bound& b = bounds[j];
     if (top.size() >= k && b.value <= top.begin()->first) break;
+    if (j + kPrefetch < bounds.size()) {
+      const size_t ahead = bounds[j + kPrefetch].pair;
+      __builtin_prefetch(&inv[ahead]);
+      __builtin_prefetch(&best_score[ahead / nl]);
+      const float* r = ranges(ahead / nl);
+      for (size_t f = 0; f < stride_; f += line_floats) __builtin_prefetch(r + f);
+    }
     const size_t i = b.pair / nl;
-    const bool scored = best[i].index >= 0;
+    const bool scored = best_score[i] >= 0.0;
     // Another level of a candidate already scored only matters if it may beat that score.
-    if (scored && b.value <= best[i].score) continue;
+    if (scored && b.value <= best_score[i]) continue;
     const int l = static_cast<int>(b.pair % nl);
     Candidate c = score(i, l, inv[b.pair], tables, w, try_reversed, scratch);
     if (scored) {
-      if (!(c.score > best[i].score)) continue;
-      top.erase({best[i].score, static_cast<int>(i)});  // absent when it was trimmed: no-op
+      if (!(c.score > best_score[i])) continue;
+      top.erase({best_score[i], static_cast<int>(i)});  // absent when it was trimmed: no-op
     }
     best[i] = c;
+    best_score[i] = c.score;
     top.emplace(c.score, static_cast<int>(i));
     if (top.size() > k) top.erase(top.begin());
   }

@@ -58,8 +58,6 @@ class CandidateDatabase {
   size_t size() const { return locations_.size(); }
   size_t validCount() const { return valid_count_; }
   const Points2d& locations() const { return locations_; }
-  /// The descriptor at max_range_m (the range levels cut it).
-  const GeoContext& descriptor(size_t i) const { return descriptors_[i]; }
   /// Candidate i's descriptor cut at range level `level` (with its features).
   GeoContext descriptorAtLevel(size_t i, int level) const;
   const std::vector<double>& rangeLevelsM() const { return levels_m_; }
@@ -87,16 +85,31 @@ class CandidateDatabase {
     return level_features_[i * levels_m_.size() + static_cast<size_t>(l)];
   }
   /// The shift-invariant factors of S for candidate i at level l: computed once per frame, they
-  /// bound the score (with S_cos <= 1) and complete it after the shift search.
+  /// bound the score (with S_cos <= 1) and complete it after the shift search. Their powers are
+  /// kept so that a scored pair raises only S_cos to its weight.
   struct Invariants {
     double s_fft = 0.0, s_cv = 0.0;
+    double fft_factor = 0.0, cv_factor = 0.0;  ///< s_fft^alpha_fft, s_cv^alpha_cv
+    /// combineSimilarity(s_cos, s_fft, s_cv, w), multiplied in its order (the same bits).
+    double combined(double s_cos, const SimilarityWeights& w) const;
   };
-  Invariants invariants(size_t i, int l, const GeoContext& observed) const;
+  Invariants invariants(size_t i, int l, const GeoContext& observed,
+                        const SimilarityWeights& w) const;
+  /// Candidate i at level l with no similarity (an unusable descriptor).
+  Candidate unscored(size_t i, int l) const;
+  /// Candidate i at level l, which must be valid, by the shift search.
   Candidate score(size_t i, int l, const Invariants& inv, const ShiftTables& tables,
                   const SimilarityWeights& w, bool try_reversed, GeoContext& scratch) const;
+  /// Candidate i's descriptor cut at level l: range_m and coarse_range_m only.
+  void cutAt(size_t i, int l, GeoContext& out) const;
+  const float* ranges(size_t i) const { return ranges_.data() + i * stride_; }
   DescriptorConfig config_;
   Points2d locations_;
-  std::vector<GeoContext> descriptors_;
+  /// Every candidate's descriptor at max_range_m: num_bins ranges, then the coarse ones, `stride_`
+  /// floats a candidate in one block, so that retrieval, which visits candidates out of order,
+  /// can prefetch what it scores next.
+  std::vector<float> ranges_;
+  size_t n_fine_ = 0, n_coarse_ = 0, stride_ = 0;
   std::vector<double> levels_m_;               ///< descending; levels_m_[0] may equal max_range_m
   std::vector<LevelFeatures> level_features_;  ///< candidate-major
   size_t valid_count_ = 0;                     ///< candidates valid at some level
