@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <set>
 #include <unordered_map>
@@ -269,9 +270,11 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
   const ShiftTables tables(observed, config_.empty_observed_bins_unknown);
   GeoContext scratch;
   std::vector<Candidate> best(size());
-  // best[i].score where candidate i is scored, -1 until then: the loop reads it for every pair
-  // visited, in bound order (candidates at random), so it is kept dense.
-  std::vector<double> best_score(size(), -1.0);
+  // best[i].score where candidate i is scored (scores lie in [0, 1]; -inf: not scored yet, below
+  // any bound): the loop reads it for every pair visited, in bound order (candidates at random),
+  // so it is kept dense.
+  constexpr double kNotScored = -std::numeric_limits<double>::infinity();
+  std::vector<double> best_score(size(), kNotScored);
   std::set<std::pair<double, int>> top;  // the k best (score, index), ascending
   // The pairs come in bound order, not memory order: what the pair kPrefetch ahead reads is
   // fetched while this one is scored.
@@ -288,7 +291,7 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
       for (size_t f = 0; f < stride_; f += line_floats) __builtin_prefetch(r + f);
     }
     const size_t i = b.pair / nl;
-    const bool scored = best_score[i] >= 0.0;
+    const bool scored = best_score[i] > kNotScored;
     // Another level of a candidate already scored only matters if it may beat that score.
     if (scored && b.value <= best_score[i]) continue;
     const int l = static_cast<int>(b.pair % nl);
