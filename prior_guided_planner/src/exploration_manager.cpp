@@ -276,7 +276,6 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   if (config_.bounds_world_m)
     in.bounds_world_m = Eigen::AlignedBox2d(config_.bounds_world_m->min().head<2>(),
                                             config_.bounds_world_m->max().head<2>());
-  if (last_plan_) in.committed_guidance = last_plan_->guidance();
   plan_hypotheses_ = hypotheses_;
   last_plan_ = planner_.plan(in);
   last_plan_time_s_ = time_s;

@@ -18,13 +18,6 @@ void HierarchicalPlannerConfig::validate() const {
   requireInRange("prior_free_max_viewpoints", prior_free_max_viewpoints, 1, 100000);
 }
 
-std::optional<GuidanceCommitment> PlanningResult::guidance() const {
-  if (mode_used != BaselineMode::kProposed || active_hypothesis_id < 0 ||
-      selection.guidepoint_sequence.empty())
-    return std::nullopt;
-  return GuidanceCommitment{active_hypothesis_id, selection.guidepoint_sequence.front()};
-}
-
 HierarchicalPlanner::HierarchicalPlanner(HierarchicalPlannerConfig config)
     : config_(config), mcts_(config_.mcts) {
   config_.validate();
@@ -121,14 +114,7 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) const {
     }
     if (!res.used_hypotheses.empty()) {
       res.groups = groupViewpoints(res.attachments, nv);
-      std::vector<int> committed;
-      for (int j : res.used_hypotheses)
-        committed.push_back(in.committed_guidance &&
-                                    in.committed_guidance->hypothesis_id == in.hypotheses[j].id
-                                ? in.committed_guidance->guidepoint
-                                : -1);
-      res.selection = selectPriorSequence(res.groups, res.sequences, robot_len, committed,
-                                          config_.sequencing.switch_margin_m);
+      res.selection = selectPriorSequence(res.groups, res.sequences, robot_len);
       if (res.selection.group >= 0 && res.selection.hypothesis >= 0) {
         const int hk = res.selection.hypothesis;
         std::optional<Eigen::Vector2d> terminal;

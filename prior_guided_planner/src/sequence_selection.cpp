@@ -11,7 +11,6 @@ namespace efs::planner {
 
 void SequencingConfig::validate() const {
   requireInRange("sequencing.unconnected_penalty", unconnected_penalty, 1.0, 1e6);
-  requireInRange("sequencing.switch_margin_m", switch_margin_m, 0.0, 1e6);
 }
 
 GuidepointProblem buildGuidepointProblem(const HypothesisAttachment& att,
@@ -137,15 +136,7 @@ std::vector<double> calcRisk(const std::vector<ViewpointGroup>& groups,
 
 PriorSelection selectPriorSequence(const std::vector<ViewpointGroup>& groups,
                                    const std::vector<HypothesisSequence>& sequences,
-                                   const std::vector<double>& robot_to_viewpoint_m,
-                                   const std::vector<int>& committed, double switch_margin_m) {
-  if (!committed.empty() && committed.size() != sequences.size())
-    throw std::invalid_argument("selectPriorSequence: " + std::to_string(committed.size()) +
-                                " committed guidepoints for " + std::to_string(sequences.size()) +
-                                " hypotheses");
-  if (!(switch_margin_m >= 0.0) || !std::isfinite(switch_margin_m))
-    throw std::invalid_argument("selectPriorSequence: switch_margin_m must be finite and >= 0");
-  const auto committedOf = [&](size_t j) { return committed.empty() ? -1 : committed[j]; };
+                                   const std::vector<double>& robot_to_viewpoint_m) {
   PriorSelection sel;
   for (const auto& g : groups)
     if (g.isolated())
@@ -157,31 +148,16 @@ PriorSelection selectPriorSequence(const std::vector<ViewpointGroup>& groups,
   if (sequences.size() == 1) {
     const HypothesisSequence& hs = sequences[0];
     if (!hs.mcts.feasible || hs.mcts.sequence.empty()) return sel;
-    const std::vector<int>* nodes = &hs.mcts.sequence;
-    const int kept = committedOf(0) >= 0 ? problemNode(hs.problem, committedOf(0)) : -1;
-    // A sequence can only start with an exploring guidepoint (the root expands to no other).
-    if (kept > 0 && kept != nodes->front() &&
-        static_cast<size_t>(kept) < hs.mcts.best_sequence_by_first.size() &&
-        !hs.mcts.best_sequence_by_first[kept].empty() &&
-        static_cast<size_t>(kept) < hs.mcts.best_length_by_first.size() &&
-        hs.mcts.best_length_by_first[kept] <= hs.mcts.length + switch_margin_m)
-      nodes = &hs.mcts.best_sequence_by_first[kept];
-    const int g0 = hs.problem.node_guidepoint[nodes->front()];
+    const int g0 = hs.problem.node_guidepoint[hs.mcts.sequence.front()];
     for (size_t i = 0; i < groups.size(); ++i)
       if (groups[i].key.at(0) == g0) sel.group = static_cast<int>(i);
     sel.hypothesis = 0;
-    sel.guidepoint_sequence = toGuidepoints(hs.problem, *nodes);
+    sel.guidepoint_sequence = toGuidepoints(hs.problem, hs.mcts.sequence);
     if (sel.group >= 0) sel.target_viewpoints = groups[sel.group].viewpoints;
     return sel;
   }
 
   sel.risk = calcRisk(groups, sequences, robot_to_viewpoint_m);
-  for (size_t i = 0; i < groups.size(); ++i) {
-    if (!(sel.risk[i] < kUnreachable)) continue;
-    for (size_t j = 0; j < sequences.size(); ++j)
-      if (committedOf(j) >= 0 && groups[i].key[j] == committedOf(j))
-        sel.risk[i] -= sequences[j].confidence * switch_margin_m;
-  }
   // The confidence of the best hypothesis attaching each group, for ties.
   auto bestConf = [&](size_t i) {
     double c = -1.0;

@@ -503,9 +503,6 @@ TEST(ExplorationManager, ConfigErrorsNameTheKey) {
   c = {};
   c.openings.search_radius_m = 0.0;
   expectKey(c, "search_radius_m");
-  c = {};
-  c.planner.sequencing.switch_margin_m = -1.0;
-  expectKey(c, "switch_margin_m");
 }
 
 TEST(ExplorationManager, MalformedPriorIsRefused) {

@@ -119,48 +119,6 @@ TEST(SequenceSelection, SingleHypothesisBypassesRisk) {
   EXPECT_EQ(sel.isolated_viewpoints, (std::vector<int>{3}));
 }
 
-TEST(SequenceSelection, TheCommittedGuidepointStaysFirstWithinTheSwitchMargin) {
-  const auto g = groupViewpoints({att({0, 1, 1, -1}, 2)}, 4);
-  const std::vector<double> robot_len = {1, 1, 1, 1};
-  // The best sequence starts with G1 (100 m); the previous plan headed for G0 (108 m).
-  const std::vector<HypothesisSequence> s = {seq(1.0, 108.0, 100.0)};
-  PriorSelection sel = selectPriorSequence(g, s, robot_len, {0}, 10.0);
-  EXPECT_EQ(sel.guidepoint_sequence, (std::vector<int>{0, 1}));
-  EXPECT_EQ(sel.target_viewpoints, (std::vector<int>{0}));
-  // 8 m longer is beyond a 5 m margin, and no margin is the paper's rule: G1 first.
-  sel = selectPriorSequence(g, s, robot_len, {0}, 5.0);
-  EXPECT_EQ(sel.guidepoint_sequence, (std::vector<int>{1, 0}));
-  sel = selectPriorSequence(g, s, robot_len, {0}, 0.0);
-  EXPECT_EQ(sel.guidepoint_sequence, (std::vector<int>{1, 0}));
-  // No commitment, or one to a guidepoint without a sequence of its own: the best sequence.
-  sel = selectPriorSequence(g, s, robot_len, {-1}, 10.0);
-  EXPECT_EQ(sel.guidepoint_sequence, (std::vector<int>{1, 0}));
-  sel = selectPriorSequence(g, {seq(1.0, kUnreachable, 100.0)}, robot_len, {0}, 10.0);
-  EXPECT_EQ(sel.guidepoint_sequence, (std::vector<int>{1, 0}));
-}
-
-TEST(SequenceSelection, TheCommittedGroupsRiskIsLoweredByTheConfidentMargin) {
-  // As RiskIsConfidenceWeightedExtraLength: risks A 24, B 8 without a commitment. H0 (conf 0.6)
-  // headed for G0 last: A's risk falls by 0.6 * 30 = 18 to 6 and A is kept.
-  const std::vector<HypothesisSequence> s = {seq(0.6, 140.0, 100.0), seq(0.4, 80.0, kUnreachable)};
-  const std::vector<double> robot_len = {5.0, 7.0, 10.0, 3.0};
-  PriorSelection sel = selectPriorSequence(groups(), s, robot_len, {0, -1}, 30.0);
-  EXPECT_NEAR(sel.risk[0], 6.0, 1e-12);
-  EXPECT_NEAR(sel.risk[1], 8.0, 1e-12);
-  EXPECT_EQ(sel.group, 0);
-  // A 20 m margin lowers A only to 12: B stays the target.
-  sel = selectPriorSequence(groups(), s, robot_len, {0, -1}, 20.0);
-  EXPECT_EQ(sel.group, 1);
-}
-
-TEST(SequenceSelection, MalformedCommitmentIsRefused) {
-  const std::vector<HypothesisSequence> s = {seq(1.0, 108.0, 100.0)};
-  const auto g = groupViewpoints({att({0, 1, 1, -1}, 2)}, 4);
-  EXPECT_THROW(selectPriorSequence(g, s, {1, 1, 1, 1}, {0, 1}, 10.0), std::invalid_argument);
-  EXPECT_THROW(selectPriorSequence(g, s, {1, 1, 1, 1}, {0}, -1.0), std::invalid_argument);
-  EXPECT_THROW(selectPriorSequence(g, s, {1, 1, 1, 1}, {0}, std::nan("")), std::invalid_argument);
-}
-
 TEST(SequenceSelection, GuidepointProblemCosts) {
   GuidepointPrior prior;
   prior.positions_sketch_m = {{0, 0}, {10, 0}, {20, 0}, {30, 0}};

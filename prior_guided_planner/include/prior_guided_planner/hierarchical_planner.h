@@ -36,12 +36,6 @@ struct HierarchicalPlannerConfig {
   void validate() const;
 };
 
-/// Where the previous plan's guidance headed: kept within SequencingConfig::switch_margin_m.
-struct GuidanceCommitment {
-  int hypothesis_id = 0;
-  int guidepoint = 0;  ///< index into the prior's guidepoints
-};
-
 struct PlanningInput {
   RobotPose robot;
   std::vector<PlanViewpoint> viewpoints;
@@ -51,7 +45,6 @@ struct PlanningInput {
   const GuidepointPrior* prior = nullptr;
   ObservationQuery observation;
   std::optional<Eigen::AlignedBox2d> bounds_world_m;
-  std::optional<GuidanceCommitment> committed_guidance;
 };
 
 enum class PlanningStatus {
@@ -77,8 +70,6 @@ struct PlanningResult {
   std::vector<HypothesisSequence> sequences;
   std::vector<ViewpointGroup> groups;
   PriorSelection selection;
-  /// What the next plan is given as `committed_guidance` (none unless the prior guided).
-  std::optional<GuidanceCommitment> guidance() const;
   std::vector<RejectedHypothesis> rejected;
   /// The selected hypothesis' id (-1 when none guided).
   int active_hypothesis_id = -1;

@@ -16,14 +16,6 @@ struct SequencingConfig {
   /// scale * straight sketch distance * this factor (the sketch may be wrong about
   /// connectivity; the planner should still prefer the connected route).
   double unconnected_penalty = 3.0;
-  /// Hysteresis of the guidance [m]: the guidepoint the previous plan headed for stays first while
-  /// its best sequence is at most this much longer than the best one (with several hypotheses:
-  /// its group's risk is lowered by this much, weighted by the confidence). Every plan re-solves
-  /// the sequencing, and as viewpoints appear and vanish near-equal sequences trade places: on
-  /// the paper-size indoor building (seed 2) the first guidepoint changed at most plans between
-  /// 90 and 200 s and the vehicle turned back and forth between the rooms on both sides of a
-  /// corridor. 0 = no memory (the paper's rule).
-  double switch_margin_m = 10.0;
   void validate() const;
 };
 
@@ -76,8 +68,7 @@ struct PriorSelection {
   /// Guidepoint indices (not problem nodes) of the selected prior sequence.
   std::vector<int> guidepoint_sequence;
   std::vector<int> isolated_viewpoints, target_viewpoints;
-  /// Per group, less the switch margin where committed; empty when the risk step was bypassed.
-  std::vector<double> risk;
+  std::vector<double> risk;  ///< per group; empty when the risk step was bypassed
 };
 
 /// SelectPriSeq. With more than one hypothesis: the group of minimum risk (ties to the group
@@ -85,12 +76,8 @@ struct PriorSelection {
 /// it the one of highest confidence, with its best sequence starting at that group. With one
 /// hypothesis the risk step is bypassed: the target group is the one attached to the first
 /// guidepoint of its best sequence.
-/// `committed[j]`: the guidepoint that hypothesis j's sequence started with in the previous plan
-/// (-1: none; empty: none for any), kept first within `switch_margin_m` (SequencingConfig).
 PriorSelection selectPriorSequence(const std::vector<ViewpointGroup>& groups,
                                    const std::vector<HypothesisSequence>& sequences,
-                                   const std::vector<double>& robot_to_viewpoint_m,
-                                   const std::vector<int>& committed = {},
-                                   double switch_margin_m = 0.0);
+                                   const std::vector<double>& robot_to_viewpoint_m);
 
 }  // namespace efs::planner

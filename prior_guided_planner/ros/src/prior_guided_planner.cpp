@@ -97,7 +97,6 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("v_max_mps", e.planner.fe_tsp.v_max_mps);
   p.get("omega_max_radps", e.planner.fe_tsp.omega_max_radps);
   p.get("beta_e", e.planner.fe_tsp.beta_e);
-  p.get("guidepoint_switch_margin_m", e.planner.sequencing.switch_margin_m);
   p.get("mcts_exploration_constant", e.planner.mcts.exploration_constant);
   p.get("mcts_iterations", e.planner.mcts.iterations);
   p.get("mcts_threads", e.planner.mcts.threads);
