@@ -99,9 +99,7 @@ CandidateDatabase::CandidateDatabase(const Points2d& sketch_points_m, Points2d c
     if (c.allFinite()) locations_.push_back(c);
   }
   n_fine_ = static_cast<size_t>(config_.num_bins);
-  n_coarse_ = config_.coarse_shift_factor > 1
-                  ? static_cast<size_t>(config_.num_bins / config_.coarse_shift_factor)
-                  : 0;
+  n_coarse_ = static_cast<size_t>(config_.numCoarseBins());
   stride_ = n_fine_ + n_coarse_;
   ranges_.assign(locations_.size() * stride_, 0.0f);
   if (!finite_points.empty()) {
@@ -177,7 +175,7 @@ Candidate CandidateDatabase::unscored(size_t i, int l) const {
 }
 
 double CandidateDatabase::Invariants::combined(double s_cos, const SimilarityWeights& w) const {
-  return std::pow(std::max(0.0, s_cos), w.alpha_cos) * fft_factor * cv_factor;
+  return similarityFactor(s_cos, w.alpha_cos) * fft_factor * cv_factor;
 }
 
 CandidateDatabase::Invariants CandidateDatabase::invariants(size_t i, int l,
@@ -187,8 +185,8 @@ CandidateDatabase::Invariants CandidateDatabase::invariants(size_t i, int l,
   Invariants inv;
   inv.s_fft = fftSimilarity(f.fft_magnitude, observed.fft_magnitude);
   inv.s_cv = cvSimilarity(f.cv, observed.cv);
-  inv.fft_factor = std::pow(std::max(0.0, inv.s_fft), w.alpha_fft);
-  inv.cv_factor = std::pow(std::max(0.0, inv.s_cv), w.alpha_cv);
+  inv.fft_factor = similarityFactor(inv.s_fft, w.alpha_fft);
+  inv.cv_factor = similarityFactor(inv.s_cv, w.alpha_cv);
   return inv;
 }
 

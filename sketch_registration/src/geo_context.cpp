@@ -59,7 +59,7 @@ void computeFeatures(GeoContext& d, const DescriptorConfig& config) {
   d.valid = nonzero >= config.min_valid_bins && mean > 0.0;
   d.coarse_range_m.clear();
   const int f = config.coarse_shift_factor;
-  if (f > 1 && n % f == 0) {
+  if (config.numCoarseBins() > 0 && n % f == 0) {
     // Coarse bin j is centred on fine bin f*j, so a coarse shift c is the fine shift f*c.
     const int lo = -(f - 1) / 2;
     d.coarse_range_m.assign(static_cast<size_t>(n / f), 0.0f);
@@ -333,9 +333,11 @@ double cvSimilarity(const GeoContext& prior, const GeoContext& observed) {
   return cvSimilarity(prior.cv, observed.cv);
 }
 
+double similarityFactor(double s, double alpha) { return std::pow(std::max(0.0, s), alpha); }
+
 double combineSimilarity(double s_cos, double s_fft, double s_cv, const SimilarityWeights& w) {
-  return std::pow(std::max(0.0, s_cos), w.alpha_cos) * std::pow(std::max(0.0, s_fft), w.alpha_fft) *
-         std::pow(std::max(0.0, s_cv), w.alpha_cv);
+  return similarityFactor(s_cos, w.alpha_cos) * similarityFactor(s_fft, w.alpha_fft) *
+         similarityFactor(s_cv, w.alpha_cv);
 }
 
 }  // namespace efs::registration

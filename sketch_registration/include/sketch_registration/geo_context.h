@@ -32,6 +32,8 @@ struct DescriptorConfig {
   /// exhaustive. Must divide num_bins.
   int coarse_shift_factor = 3;
   int coarse_shift_keep = 3;
+  /// Length of coarse_range_m (0: no coarse stage).
+  int numCoarseBins() const { return coarse_shift_factor > 1 ? num_bins / coarse_shift_factor : 0; }
   /// An empty bin of the observed descriptor means "nothing seen there within range", not "no
   /// wall": S_cos then leaves the prior's bin out. (The sketch's range limit is in sketch metres,
   /// the observation's in world metres; at a true scale above the guess the sketch sees walls
@@ -139,6 +141,9 @@ struct SimilarityWeights {
   void validate() const;
 };
 
+/// One similarity's factor of the weighted product: max(0, s)^alpha.
+double similarityFactor(double s, double alpha);
+/// The weighted product: the factors of S_cos, S_fft and S_cv, multiplied in that order.
 double combineSimilarity(double s_cos, double s_fft, double s_cv, const SimilarityWeights& w);
 
 }  // namespace efs::registration
