@@ -45,7 +45,8 @@
 // --kept-fitness-threshold-m, --kept-min-inlier-ratio, --kept-min-inside-ratio,
 // --inlier-distance-m, --slice-min-dz-m, --slice-max-dz-m, --wall-columns 0|1, --column-cell-m,
 // --wall-min-height-m, --wall-max-gap-m, --icp-range-m, --max-range-m, --unknown-empty-bins 0|1,
-// --clip-to-range 0|1, --scale-levels, --sketch-point-radius-m, --settled-coverage,
+// --clip-to-range 0|1, --scale-levels, --coarse-shift-keep, --sketch-point-radius-m,
+// --settled-coverage,
 // --coverage-weight-m, --history 0|1.
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -964,6 +965,7 @@ Options parse(int argc, char** argv) {
                         "unknown-empty-bins",
                         "clip-to-range",
                         "scale-levels",
+                        "coarse-shift-keep",
                         "sketch-point-radius-m",
                         "settled-coverage",
                         "coverage-weight-m",
@@ -1044,6 +1046,8 @@ Options parse(int argc, char** argv) {
       args.integer("clip-to-range", o.registration.descriptor.clip_to_range ? 1 : 0) != 0;
   o.registration.scale_levels =
       static_cast<int>(args.integer("scale-levels", o.registration.scale_levels));
+  o.registration.descriptor.coarse_shift_keep = static_cast<int>(
+      args.integer("coarse-shift-keep", o.registration.descriptor.coarse_shift_keep));
   o.registration.sketch_point_radius_m =
       args.number("sketch-point-radius-m", o.registration.sketch_point_radius_m);
   o.registration.settled_coverage =
