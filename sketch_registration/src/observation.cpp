@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -29,20 +30,21 @@ long long gridCellKey(const Eigen::Vector2d& d, double cell_m) {
   return (ix << 32) ^ (iy & 0xffffffffLL);
 }
 
-namespace {
-struct Column {
-  Eigen::Vector2d sum_m = Eigen::Vector2d::Zero();
-  std::vector<float> z_m;
-};
-}  // namespace
-
 ProjectedMap observeLocalMap(const Points3d& local_map, const Eigen::Vector3d& robot,
                              const ObservationConfig& config, double range_m) {
   ProjectedMap out;
   out.num_input = local_map.size();
-  std::unordered_map<long long, size_t> index;
+  // Columns in the order they are first met (thinning downstream keeps the first point of a
+  // cell). Their heights go to one flat array grouped by column, not to a vector per column: a
+  // paper-size garage frame holds ~270k points in ~30k columns, and the allocations per column
+  // took as long as the hashing.
+  std::unordered_map<long long, uint32_t> index;
   index.reserve(local_map.size() / 4 + 16);
-  std::vector<Column> columns;
+  std::vector<Eigen::Vector2d> sum_m;
+  std::vector<uint32_t> column_of;
+  std::vector<float> z_of;
+  column_of.reserve(local_map.size());
+  z_of.reserve(local_map.size());
   const double r2 = range_m * range_m;
   for (const auto& p : local_map) {
     if (!p.allFinite()) {
@@ -54,30 +56,42 @@ ProjectedMap observeLocalMap(const Points3d& local_map, const Eigen::Vector3d& r
     const Eigen::Vector2d d = p.head<2>() - robot.head<2>();
     if (d.squaredNorm() > r2) continue;
     ++out.num_in_band;
-    const auto [it, added] = index.emplace(gridCellKey(d, config.column_cell_m), columns.size());
-    if (added) columns.emplace_back();
-    Column& c = columns[it->second];
-    c.sum_m += p.head<2>();
-    c.z_m.push_back(static_cast<float>(p.z()));
+    const auto [it, added] =
+        index.emplace(gridCellKey(d, config.column_cell_m), static_cast<uint32_t>(sum_m.size()));
+    if (added) sum_m.emplace_back(Eigen::Vector2d::Zero());
+    sum_m[it->second] += p.head<2>();
+    column_of.push_back(it->second);
+    z_of.push_back(static_cast<float>(p.z()));
   }
-  out.num_columns = columns.size();
-  for (Column& c : columns) {
-    const Eigen::Vector2d centre = c.sum_m / static_cast<double>(c.z_m.size());
+  const size_t n = sum_m.size();
+  out.num_columns = n;
+  std::vector<size_t> begin(n + 1, 0);
+  for (uint32_t c : column_of) ++begin[c + 1];
+  for (size_t c = 0; c < n; ++c) begin[c + 1] += begin[c];
+  std::vector<float> z_m(z_of.size());
+  {
+    std::vector<size_t> next(begin.begin(), begin.end() - 1);
+    for (size_t i = 0; i < column_of.size(); ++i) z_m[next[column_of[i]]++] = z_of[i];
+  }
+  for (size_t c = 0; c < n; ++c) {
+    float* lo = z_m.data() + begin[c];
+    float* hi = z_m.data() + begin[c + 1];
+    const Eigen::Vector2d centre = sum_m[c] / static_cast<double>(hi - lo);
     if (!config.wall_columns) {
       out.points_m.push_back(centre);
       continue;
     }
-    std::sort(c.z_m.begin(), c.z_m.end());
+    std::sort(lo, hi);
     double max_gap = 0.0;
-    for (size_t i = 1; i < c.z_m.size(); ++i) {
-      max_gap = std::max(max_gap, static_cast<double>(c.z_m[i] - c.z_m[i - 1]));
+    for (const float* z = lo + 1; z < hi; ++z) {
+      max_gap = std::max(max_gap, static_cast<double>(*z - *(z - 1)));
     }
     if (max_gap > config.wall_max_gap_m) {
       ++out.num_passage_columns;
       out.passage_m.push_back(centre);
       continue;
     }
-    if (c.z_m.back() - c.z_m.front() >= config.wall_min_height_m) {
+    if (*(hi - 1) - *lo >= config.wall_min_height_m) {
       out.points_m.push_back(centre);
     } else {
       out.other_m.push_back(centre);

@@ -151,6 +151,34 @@ TEST(Observation, BandAndRangeLimitTheColumns) {
   EXPECT_EQ(m.num_non_finite, 1u);
 }
 
+TEST(Observation, ColumnsComeInTheOrderFirstMetWithTheirMeanAndAllTheirHeights) {
+  ObservationConfig config;
+  config.column_cell_m = 1.0;
+  config.wall_min_height_m = 1.0;
+  config.wall_max_gap_m = 0.5;
+  // Column B (x in [2, 3)) is met first, then A (x in [1, 2)); their heights interleave and come
+  // unsorted. A: 0.2 .. 1.4 with no gap over 0.4 -> wall. B: 0.0, 0.3, 1.2 -> a 0.9 m gap ->
+  // passage. C (x in [4, 5)): 0.5 m tall -> other.
+  const Points3d pts = {{2.2, 0.5, 1.2}, {1.5, 0.5, 1.4}, {1.7, 0.5, 0.2},
+                        {2.6, 0.5, 0.0}, {1.2, 0.5, 0.6}, {2.4, 0.5, 0.3},
+                        {1.6, 0.5, 1.0}, {4.5, 0.5, 0.5}, {4.5, 0.5, 1.0}};
+  const ProjectedMap m = observeLocalMap(pts, Vector3d(0, 0, 0.5), config, 30.0);
+  EXPECT_EQ(m.num_columns, 3u);
+  ASSERT_EQ(m.points_m.size(), 1u);
+  EXPECT_NEAR(m.points_m[0].x(), (1.5 + 1.7 + 1.2 + 1.6) / 4.0, 1e-12);
+  ASSERT_EQ(m.passage_m.size(), 1u);
+  EXPECT_NEAR(m.passage_m[0].x(), (2.2 + 2.6 + 2.4) / 3.0, 1e-12);
+  ASSERT_EQ(m.other_m.size(), 1u);
+  EXPECT_NEAR(m.other_m[0].x(), 4.5, 1e-12);
+  // Without the wall test every column is a point, B (met first) before A before C.
+  config.wall_columns = false;
+  const ProjectedMap all = observeLocalMap(pts, Vector3d(0, 0, 0.5), config, 30.0);
+  ASSERT_EQ(all.points_m.size(), 3u);
+  EXPECT_NEAR(all.points_m[0].x(), (2.2 + 2.6 + 2.4) / 3.0, 1e-12);
+  EXPECT_NEAR(all.points_m[1].x(), (1.5 + 1.7 + 1.2 + 1.6) / 4.0, 1e-12);
+  EXPECT_NEAR(all.points_m[2].x(), 4.5, 1e-12);
+}
+
 TEST(Observation, DescriptorAndIcpInputsComeFromOneObservation) {
   ObservationConfig config;
   config.icp_range_m = 5.0;
