@@ -383,16 +383,22 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
     joint.insert(joint.end(), history_.beyond().begin(), history_.beyond().end());
   }
   const double narrow_m = 1.5 * config_.icp.min_correspondence_m;
+  // The bounds a fit is held to: a reported (confirmed) hypothesis to the looser kept ones. A new
+  // transform must lay the sketch over icp.min_inside_ratio of the observation (else it put the
+  // sketch somewhere else); a reported one only over kept_min_inside_ratio: walking beyond a
+  // partial sketch, the true placement's share falls while what lies inside still fits (office
+  // drawn west of 30 m: 0.16-0.25 inside at F 0.03-0.04 m, inliers 0.86-0.89).
+  struct FitBounds {
+    double max_fitness_m, min_inliers, min_inside, min_history_inliers;
+  };
+  const FitBounds new_bounds{config_.fitness_threshold_m, config_.icp.min_inlier_ratio,
+                             config_.icp.min_inside_ratio, config_.history_min_inlier_ratio};
+  const FitBounds kept_bounds{config_.kept_fitness_threshold_m, config_.kept_min_inlier_ratio,
+                              config_.kept_min_inside_ratio, config_.history_kept_min_inlier_ratio};
   for (const Input& in : inputs) {
-    const bool confirmed = in.id && in.age >= config_.confirm_frames;
-    // A new transform must lay the sketch over icp.min_inside_ratio of the observation (else it
-    // put the sketch somewhere else); a reported one only over kept_min_inside_ratio: walking
-    // beyond a partial sketch, the true placement's share falls while what lies inside still
-    // fits (office drawn west of 30 m: 0.16-0.25 inside at F 0.03-0.04 m, inliers 0.86-0.89).
-    const double min_inside =
-        confirmed ? config_.kept_min_inside_ratio : config_.icp.min_inside_ratio;
+    const FitBounds& bounds = in.id && in.age >= config_.confirm_frames ? kept_bounds : new_bounds;
     const auto judged = [&](const IcpResult& x) {
-      return x.usable && x.inside_ratio >= min_inside;
+      return x.usable && x.inside_ratio >= bounds.min_inside;
     };
     // Live hypotheses were refined last frame: a narrow capture radius suffices.
     IcpResult r = icp_->refine(in.T, icp_points, in.id ? narrow_m : 0.0, &observed);
@@ -419,20 +425,16 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
       }
     }
     ++diag.icp_runs;
-    const double max_fitness =
-        confirmed ? config_.kept_fitness_threshold_m : config_.fitness_threshold_m;
-    const double min_inliers =
-        confirmed ? config_.kept_min_inlier_ratio : config_.icp.min_inlier_ratio;
-    if (!judged(r) || !(r.inlier_ratio >= min_inliers) || !(r.fitness_m <= max_fitness)) {
+    if (!judged(r) || !(r.inlier_ratio >= bounds.min_inliers) ||
+        !(r.fitness_m <= bounds.max_fitness_m)) {
       if (!in.id) rejected_.push_back({in.T, frame_counter_});
       continue;
     }
     HistoryFit hf;
     if (use_history) {
       hf = historyFit(r.T_world_sketch);
-      const double min_history =
-          confirmed ? config_.history_kept_min_inlier_ratio : config_.history_min_inlier_ratio;
-      if (hf.inside >= config_.history.min_points && !(hf.inlierRatio() >= min_history)) {
+      if (hf.inside >= config_.history.min_points &&
+          !(hf.inlierRatio() >= bounds.min_history_inliers)) {
         if (!in.id) rejected_.push_back({in.T, frame_counter_});
         continue;
       }
