@@ -32,6 +32,8 @@ void ExplorationManagerConfig::validate() const {
   requireInRange("max_goal_distance_m", max_goal_distance_m, 1.0, 1e4);
   requireInRange("max_goal_climb_m", max_goal_climb_m, 0.5, 1e4);
   requireInRange("tour_lookahead_m", tour_lookahead_m, 0.0, 1e4);
+  requireInRange("near_openings_radius_m", near_openings_radius_m, 0.0, 1e4);
+  requireInRange("near_openings_min_cells", near_openings_min_cells, 1, 1000000);
   if (bounds_world_m) {
     requireThat(bounds_world_m->min().allFinite() && bounds_world_m->max().allFinite(),
                 "bounds_world_m", "corners must be finite");
@@ -225,13 +227,21 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
       vps.push_back({v.id, v.position_world_m, v.yaw_rad});
       vp_cluster.push_back(v.cluster_id);
     }
-    // No surface viewpoint left: the ways on that the surface frontiers cannot see (openings.h).
+    // No surface viewpoint left, or none near: the ways on that the surface frontiers cannot
+    // see (openings.h), all of them or the near ones.
     opening_look_at_.clear();
-    if (vps.empty() && config_.use_openings) {
-      if (!openings)
-        openings = findOpenings(occupancy_, robot.position_world_m, config_.bounds_world_m,
-                                config_.openings);
-      for (const Opening& o : *openings) {
+    if (config_.use_openings) {
+      std::vector<Eigen::Vector3d> surface;
+      for (const PlanViewpoint& v : vps) surface.push_back(v.position_world_m);
+      const auto find = [&]() -> const std::vector<Opening>& {
+        if (!openings)
+          openings = findOpenings(occupancy_, robot.position_world_m, config_.bounds_world_m,
+                                  config_.openings);
+        return *openings;
+      };
+      for (const Opening& o :
+           openingsToTour(surface, robot.position_world_m, config_.near_openings_radius_m,
+                          config_.near_openings_min_cells, find)) {
         if (!candidate(o.id, reached_opening_ids_)) continue;
         vps.push_back({o.id, o.viewpoint_world_m, o.yaw_rad});
         vp_cluster.push_back(-1);

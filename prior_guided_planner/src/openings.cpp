@@ -135,4 +135,22 @@ std::vector<Opening> findOpenings(const OccupancyMap& occ, const Eigen::Vector3d
   return out;
 }
 
+std::vector<Opening> openingsToTour(const std::vector<Eigen::Vector3d>& surface_viewpoints_world_m,
+                                    const Eigen::Vector3d& robot_world_m, double near_radius_m,
+                                    int near_min_cells,
+                                    const std::function<const std::vector<Opening>&()>& find) {
+  const auto near = [&](const Eigen::Vector3d& p) {
+    return (p - robot_world_m).head<2>().norm() <= near_radius_m;
+  };
+  const bool none_left = surface_viewpoints_world_m.empty();
+  const bool none_near =
+      near_radius_m > 0.0 &&
+      std::none_of(surface_viewpoints_world_m.begin(), surface_viewpoints_world_m.end(), near);
+  if (!none_left && !none_near) return {};
+  std::vector<Opening> out;
+  for (const Opening& o : find())
+    if (none_left || (o.cells >= near_min_cells && near(o.viewpoint_world_m))) out.push_back(o);
+  return out;
+}
+
 }  // namespace efs::planner

@@ -503,6 +503,12 @@ TEST(ExplorationManager, ConfigErrorsNameTheKey) {
   c = {};
   c.openings.search_radius_m = 0.0;
   expectKey(c, "search_radius_m");
+  c = {};
+  c.near_openings_radius_m = -1.0;
+  expectKey(c, "near_openings_radius_m");
+  c = {};
+  c.near_openings_min_cells = 0;
+  expectKey(c, "near_openings_min_cells");
 }
 
 TEST(ExplorationManager, MalformedPriorIsRefused) {

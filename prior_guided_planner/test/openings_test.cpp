@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "efs_common/config_check.h"
 #include "observation_map_test_scenes.h"
@@ -53,6 +54,54 @@ TEST(Openings, ADoorToUnseenSpaceIsAWayOn) {
   const std::vector<Opening> again = findOpenings(occ, {0, 0, 1.5}, std::nullopt);
   ASSERT_EQ(again.size(), openings.size());
   for (size_t i = 0; i < again.size(); ++i) EXPECT_EQ(again[i].id, openings[i].id);
+}
+
+Opening openingAt(int id, const Eigen::Vector3d& viewpoint_world_m, int cells) {
+  Opening o;
+  o.id = id;
+  o.viewpoint_world_m = viewpoint_world_m;
+  o.cells = cells;
+  return o;
+}
+
+std::vector<int> ids(const std::vector<Opening>& openings) {
+  std::vector<int> out;
+  for (const Opening& o : openings) out.push_back(o.id);
+  return out;
+}
+
+// The door of a room next to the robot (opening 1, 3 m away, 250 cells), a shadow behind a
+// post as near (opening 3, 20 cells) and a way on across the building (opening 2, 40 m away);
+// the pass over the map is counted.
+TEST(Openings, TouredWhenNoSurfaceViewpointIsLeftOrNoneIsNear) {
+  const Eigen::Vector3d robot(0, 0, 1.5);
+  const std::vector<Opening> all = {openingAt(1, {3, 0, 1.5}, 250), openingAt(2, {40, 0, 1.5}, 250),
+                                    openingAt(3, {0, -4, 1.5}, 20)};
+  int passes = 0;
+  const auto find = [&]() -> const std::vector<Opening>& {
+    ++passes;
+    return all;
+  };
+  const double near_m = 8.0;
+  const int min_cells = 100;
+  // Nothing else left: every opening.
+  EXPECT_EQ(ids(openingsToTour({}, robot, near_m, min_cells, find)), (std::vector<int>{1, 2, 3}));
+  EXPECT_EQ(passes, 1);
+  // Surface viewpoints only far away (one high above the robot counts by its horizontal
+  // distance): the large near opening joins them; the far one and the small one wait.
+  EXPECT_EQ(ids(openingsToTour({{20, 0, 1.5}, {0, 9, 1.5}}, robot, near_m, min_cells, find)),
+            (std::vector<int>{1}));
+  EXPECT_EQ(passes, 2);
+  EXPECT_EQ(ids(openingsToTour({{20, 0, 1.5}}, robot, near_m, 10, find)), (std::vector<int>{1, 3}));
+  EXPECT_EQ(passes, 3);
+  // A surface viewpoint near the robot: no opening, and no pass over the map.
+  EXPECT_TRUE(openingsToTour({{20, 0, 1.5}, {5, 5, 6.0}}, robot, near_m, min_cells, find).empty());
+  EXPECT_EQ(passes, 3);
+  // Radius 0: openings only once no surface viewpoint is left.
+  EXPECT_TRUE(openingsToTour({{20, 0, 1.5}}, robot, 0.0, min_cells, find).empty());
+  EXPECT_EQ(passes, 3);
+  EXPECT_EQ(ids(openingsToTour({}, robot, 0.0, min_cells, find)), (std::vector<int>{1, 2, 3}));
+  EXPECT_EQ(passes, 4);
 }
 
 TEST(Openings, AClosedRoomHasNoneAndTheBoxEdgeIsNone) {

@@ -51,6 +51,18 @@ struct ExplorationManagerConfig {
   /// Free-space frontiers, asked for when no surface viewpoint remains (openings.h).
   bool use_openings = true;
   OpeningConfig openings;
+  /// When no surface viewpoint lies within this horizontal range of the robot, the openings
+  /// within it are planned too, before the robot leaves for the far viewpoints [m]. A door the
+  /// robot stands next to shows the LiDAR a cone of the room behind it, seen from close and so
+  /// well observed: the room keeps no surface viewpoint and was only an opening, toured once
+  /// nothing else was left (seen: a guided flight turning round 1.5 m from the door of the last
+  /// room of the small indoor world, then crossing the building back to it at the end). 0: off.
+  double near_openings_radius_m = 8.0;
+  /// ... and only those of at least this many cells: a door to an unseen room borders the
+  /// unknown with the whole cone the LiDAR saw through it (247 cells at the small indoor
+  /// world's last room), the shadow of a car or a pillar in the open with a few (6 to 42 in the
+  /// small garage, where touring them made the flight 32 % longer).
+  int near_openings_min_cells = 100;
   /// Plan at most this often [s] unless the target is reached, gone, or hypotheses changed.
   double replan_period_s = 1.0;
   /// The target counts as reached when the robot is this close to it [m].

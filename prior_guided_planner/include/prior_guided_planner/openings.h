@@ -20,6 +20,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -60,5 +61,15 @@ std::vector<Opening> findOpenings(const OccupancyMap& occupancy,
                                   const Eigen::Vector3d& robot_world_m,
                                   const std::optional<Eigen::AlignedBox3d>& bounds_world_m,
                                   const OpeningConfig& config = {});
+
+/// The openings a plan tours (ExplorationManagerConfig::near_openings_radius_m): all of them
+/// when no surface viewpoint is left; when no surface viewpoint lies within `near_radius_m`
+/// (horizontally) of the robot, those of at least `near_min_cells` whose viewpoint is that
+/// close; none otherwise. `find` (findOpenings, a pass over the map) is called only when
+/// openings are wanted. A radius of 0 wants openings only once no surface viewpoint is left.
+std::vector<Opening> openingsToTour(const std::vector<Eigen::Vector3d>& surface_viewpoints_world_m,
+                                    const Eigen::Vector3d& robot_world_m, double near_radius_m,
+                                    int near_min_cells,
+                                    const std::function<const std::vector<Opening>&()>& find);
 
 }  // namespace efs::planner

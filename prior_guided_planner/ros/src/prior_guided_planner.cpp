@@ -58,6 +58,8 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("unreachable_retry_s", e.unreachable_retry_s);
   p.get("unreachable_attempts", e.unreachable_attempts);
   p.get("opening_search_radius_m", e.openings.search_radius_m);
+  p.get("near_openings_radius_m", e.near_openings_radius_m);
+  p.get("near_openings_min_cells", e.near_openings_min_cells);
   p.get("max_goal_distance_m", e.max_goal_distance_m);
   p.get("max_goal_climb_m", e.max_goal_climb_m);
   p.get("tour_lookahead_m", e.tour_lookahead_m);
