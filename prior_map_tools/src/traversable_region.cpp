@@ -15,6 +15,7 @@ void TraversableConfig::validate() const {
   requireInRange("robot_radius_m", robot_radius_m, 0.0, 10.0);
   requireInRange("max_outer_gap_m", max_outer_gap_m, 0.0, 100.0);
   requireInRange("min_region_area_m2", min_region_area_m2, 0.0, 1e6);
+  requireInRange("min_enclosed_span_fraction", min_enclosed_span_fraction, 0.0, 1.0);
 }
 
 namespace {
@@ -164,7 +165,7 @@ TraversableRegion extractTraversable(const LoadedSketch& sketch, const Traversab
     const double best = *std::max_element(area.begin(), area.end());
     // A partial sketch (walls of whole regions left out) has an open outline: nothing, or only a
     // few closets, is enclosed. What the strokes span is then the best guess of the inside: the
-    // convex hull of the ink. It is the fallback when the enclosed area leaves no region.
+    // convex hull of the ink. It is the fallback when the enclosed area leaves no region, too.
     std::vector<cv::Point> ink;
     cv::findNonZero(walls, ink);
     cv::Mat1b hull_footprint = cv::Mat1b::zeros(walls.size());
@@ -173,7 +174,20 @@ TraversableRegion extractTraversable(const LoadedSketch& sketch, const Traversab
       cv::convexHull(ink, hull);
       cv::fillConvexPoly(hull_footprint, hull, cv::Scalar(255));
     }
-    if (best <= 0.0) {
+    size_t chosen = 0;
+    if (best > 0.0) {
+      while (area[chosen] < 0.5 * best) ++chosen;
+      while (chosen + 1 < radii.size() && area[chosen + 1] > 1.25 * area[chosen]) ++chosen;
+    }
+    // The span of what is enclosed, without what the closing itself filled in (it rounds every
+    // corner of the strokes, enclosed or not).
+    const auto diagonal = [](const cv::Rect& r) { return std::hypot(r.width, r.height); };
+    const bool closet_only =
+        best > 0.0 &&
+        diagonal(cv::boundingRect(footprints[chosen] &
+                                  ~closeWalls(padded_walls, dist_to_wall, radii[chosen])(page))) <
+            config.min_enclosed_span_fraction * diagonal(cv::boundingRect(walls));
+    if (best <= 0.0 || closet_only) {
       if (cv::countNonZero(hull_footprint & ~walls) == 0) {
         throw PriorMapError(name +
                             ": no traversable region: no area enclosed by walls (outer wall gaps "
@@ -183,9 +197,6 @@ TraversableRegion extractTraversable(const LoadedSketch& sketch, const Traversab
       out.footprint = hull_footprint;
       out.outer_outline_open = true;
     } else {
-      size_t chosen = 0;
-      while (area[chosen] < 0.5 * best) ++chosen;
-      while (chosen + 1 < radii.size() && area[chosen + 1] > 1.25 * area[chosen]) ++chosen;
       out.outer_gap_closing_px = radii[chosen];
       out.footprint = footprints[chosen];
       fallback_footprint = hull_footprint;

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "efs_common/config_check.h"
 #include "efs_common/testing/paths.h"
 #include "prior_map_tools/prior_map_error.h"
 #include "test_sketches.h"
@@ -94,6 +95,33 @@ TEST(TraversableRegion, PartialSketchWithAnOpenOutlineUsesTheInksHull) {
   const TraversableRegion shut = extractTraversable(sketchFromImage(closed, lc, "closed.png"), {});
   EXPECT_FALSE(shut.outer_outline_open);
   EXPECT_EQ(shut.mask(70, 100), 255);
+}
+
+TEST(TraversableRegion, AClosetInsideAnOpenOutlineIsNotTheBuilding) {
+  // The hall of the test above with a service core drawn in it (a closed 4 x 1.6 m box): the
+  // outline is still open, and the box, the one enclosed area, spans a fraction of the strokes.
+  cv::Mat1b partial(140, 200, uint8_t(255));
+  cv::line(partial, {20, 20}, {180, 20}, cv::Scalar(0), 2);
+  cv::line(partial, {20, 20}, {20, 120}, cv::Scalar(0), 2);
+  cv::line(partial, {180, 20}, {180, 120}, cv::Scalar(0), 2);
+  cv::rectangle(partial, cv::Rect(80, 60, 40, 16), cv::Scalar(0), 2);
+  SketchLoadConfig lc;
+  const TraversableRegion open = extractTraversable(sketchFromImage(partial, lc, "core.png"), {});
+  EXPECT_TRUE(open.outer_outline_open);
+  EXPECT_GT(open.area_m2, 0.8 * 16.0 * 10.0 - 4.0 * 1.6);
+  EXPECT_EQ(open.mask(100, 100), 255) << "the hall south of the core";
+  EXPECT_EQ(open.mask(40, 50), 255) << "the hall north-west of the core";
+  // Held to no span, the box is taken for the building, as before.
+  TraversableConfig any_span;
+  any_span.min_enclosed_span_fraction = 0.0;
+  const TraversableRegion boxed =
+      extractTraversable(sketchFromImage(partial, lc, "core.png"), any_span);
+  EXPECT_FALSE(boxed.outer_outline_open);
+  EXPECT_EQ(boxed.mask(100, 100), 0);
+  EXPECT_LT(boxed.area_m2, 4.0 * 1.6);
+  TraversableConfig absurd;
+  absurd.min_enclosed_span_fraction = 1.5;
+  EXPECT_THROW(absurd.validate(), ConfigError);
 }
 
 TEST(TraversableRegion, OccupancyGridUnknownIsNotTraversable) {

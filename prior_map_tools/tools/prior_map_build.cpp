@@ -30,6 +30,8 @@ sketch: a drawing (PNG/JPG/PGM, grey, colour or alpha) or a map_server YAML occu
   --robot-radius M       clearance from drawn walls                   (default 0.15)
   --max-outer-gap M      widest gap in the outer wall still sealed    (default 4.0)
   --min-region-area M2   smaller free components are dropped          (default 2.0)
+  --min-enclosed-span F  an enclosed area spanning less than this      (default 0.5)
+                         fraction of the strokes is a closet in an open outline
   --spur-length M        skeleton spurs shorter than this are pruned  (default 2.0)
   --interval-factor F    guidepoint spacing / mapping range           (default 3.0)
   --prm-spacing M        mean PRM node spacing                        (default 1.5)
@@ -42,11 +44,12 @@ sketch: a drawing (PNG/JPG/PGM, grey, colour or alpha) or a map_server YAML occu
 int main(int argc, char** argv) {
   using namespace efs::prior_map;
   try {
-    const efs::CliArgs args(argc, argv,
-                            {"sketch", "scale-guess", "mapping-range", "out", "overlay", "summary", "kind",
-                             "robot-radius", "max-outer-gap", "min-region-area", "spur-length",
-                             "interval-factor", "prm-spacing", "prm-k", "seed"},
-                            {"help"});
+    const efs::CliArgs args(
+        argc, argv,
+        {"sketch", "scale-guess", "mapping-range", "out", "overlay", "summary", "kind",
+         "robot-radius", "max-outer-gap", "min-region-area", "min-enclosed-span", "spur-length",
+         "interval-factor", "prm-spacing", "prm-k", "seed"},
+        {"help"});
     if (args.flag("help") || argc == 1) {
       std::cout << kUsage;
       return argc == 1 ? 2 : 0;
@@ -72,6 +75,8 @@ int main(int argc, char** argv) {
         args.number("max-outer-gap", config.traversable.max_outer_gap_m);
     config.traversable.min_region_area_m2 =
         args.number("min-region-area", config.traversable.min_region_area_m2);
+    config.traversable.min_enclosed_span_fraction =
+        args.number("min-enclosed-span", config.traversable.min_enclosed_span_fraction);
     config.skeleton.spur_prune_length_m =
         args.number("spur-length", config.skeleton.spur_prune_length_m);
     config.guidepoints.interval_factor =
@@ -123,10 +128,11 @@ int main(int argc, char** argv) {
                    "  \"prm_edges\": %d,\n  \"unreachable_pairs\": %d,\n"
                    "  \"elapsed_s\": %.4f,\n  \"bundle\": \"%s\",\n  \"overlay\": \"%s\"\n}\n",
                    sketch_path.c_str(), toString(sketch.kind), sketch.frame.width_px,
-                   sketch.frame.height_px, sketch.frame.m_per_px, config.guidepoints.mapping_range_m,
-                   s.region_area_m2, s.components, s.skeleton_length_m, s.skeleton_branches,
-                   s.guidepoints, config.guidepoints.intervalM(), s.prm_nodes, s.prm_edges,
-                   s.unreachable_pairs, build_s, out_path.c_str(), overlay_path.c_str());
+                   sketch.frame.height_px, sketch.frame.m_per_px,
+                   config.guidepoints.mapping_range_m, s.region_area_m2, s.components,
+                   s.skeleton_length_m, s.skeleton_branches, s.guidepoints,
+                   config.guidepoints.intervalM(), s.prm_nodes, s.prm_edges, s.unreachable_pairs,
+                   build_s, out_path.c_str(), overlay_path.c_str());
       std::fclose(f);
     }
     return 0;

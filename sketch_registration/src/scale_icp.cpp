@@ -27,6 +27,8 @@ void ScaleIcpConfig::validate() const {
   requireInRange("fitness_trim_ratio", fitness_trim_ratio, 0.05, 1.0);
   requirePositive("inlier_distance_m", inlier_distance_m);
   requireInRange("min_inlier_ratio", min_inlier_ratio, 0.0, 1.0);
+  requireInRange("forward_inlier_slack", forward_inlier_slack, 0.0, min_inlier_ratio);
+  requireInRange("slack_min_reverse_ratio", slack_min_reverse_ratio, 0.0, 1.0);
   requireInRange("sketch_margin_m", sketch_margin_m, 0.0, 1e6);
   requireInRange("min_points", min_points, 1, 1000000);
   requireInRange("min_inside_ratio", min_inside_ratio, 0.0, 1.0);
@@ -40,6 +42,13 @@ void ScaleIcpConfig::validate() const {
   requireInRange("coarse_scale_step", coarse_scale_step, 0.0, 0.9);
   requireInRange("coarse_points", coarse_points, 10, 1000000);
   requirePositive("coarse_truncation_m", coarse_truncation_m);
+}
+
+bool ScaleIcpConfig::inliersPass(const IcpResult& r, double bound) const {
+  if (!r.reverse_inlier_ratio) return r.forward_inlier_ratio >= bound;
+  const double rev = *r.reverse_inlier_ratio;
+  const double slack = rev >= slack_min_reverse_ratio ? forward_inlier_slack : 0.0;
+  return rev >= bound && r.forward_inlier_ratio >= bound - slack;
 }
 
 ScaleIcp::ScaleIcp(const Points2d& sketch_points_m, const ScaleIcpConfig& config)
@@ -185,6 +194,7 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
   r.forward_fitness_m = fwd.first;
   r.fitness_m = fwd.first;
   r.inlier_ratio = fwd.second;
+  r.forward_inlier_ratio = fwd.second;
   if (reverse && reverse->tree && reverse->tree->size() > 0 && config_.reverse_range_m > 0.0) {
     // Sketch points that the robot would see under T (HPR in the sketch frame, range mapped by
     // the scale) must have been observed.
@@ -221,11 +231,12 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
       r.reverse_fitness_m = rev.first;
       r.fitness_m = 0.5 * (fwd.first + rev.first);
       r.inlier_ratio = std::min(fwd.second, rev.second);
+      r.reverse_inlier_ratio = rev.second;
     }
   }
   r.usable = true;
-  r.valid =
-      r.inlier_ratio >= config_.min_inlier_ratio && r.inside_ratio >= config_.min_inside_ratio;
+  r.valid = config_.inliersPass(r, config_.min_inlier_ratio) &&
+            r.inside_ratio >= config_.min_inside_ratio;
   return r;
 }
 

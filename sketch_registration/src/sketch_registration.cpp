@@ -407,9 +407,10 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
     // which the window's own refinement already optimised (on a 190 x 150 m garage ~120 inputs a
     // frame, most of them far off).
     if (use_history &&
-        (in.id || (judged(r) &&
-                   r.inlier_ratio >= config_.icp.min_inlier_ratio - config_.history_inlier_slack &&
-                   r.fitness_m <= kJointFitnessFactor * config_.fitness_threshold_m))) {
+        (in.id ||
+         (judged(r) &&
+          config_.icp.inliersPass(r, config_.icp.min_inlier_ratio - config_.history_inlier_slack) &&
+          r.fitness_m <= kJointFitnessFactor * config_.fitness_threshold_m))) {
       // A live hypothesis continues from its own (joint) transform: refined on the window first,
       // it would slide back to the window's loose optimum, metres off at the remembered walls
       // and beyond the narrow capture radius. A new one starts from its window fit, with the
@@ -425,7 +426,7 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
       }
     }
     ++diag.icp_runs;
-    if (!judged(r) || !(r.inlier_ratio >= bounds.min_inliers) ||
+    if (!judged(r) || !config_.icp.inliersPass(r, bounds.min_inliers) ||
         !(r.fitness_m <= bounds.max_fitness_m)) {
       if (!in.id) rejected_.push_back({in.T, frame_counter_});
       continue;

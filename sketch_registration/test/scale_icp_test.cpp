@@ -140,6 +140,47 @@ TEST(ScaleIcp, FitnessSeparatesRightFromWrong) {
   EXPECT_TRUE(!off.valid || off.fitness_m > 3.0 * good.fitness_m);
 }
 
+TEST(ScaleIcp, ForwardSlackAdmitsAPartialSketchAtTheTruthButNoWrongPlacement) {
+  // The office drawn without its north-east quarter (x >= 44, y >= 20): at the true placement
+  // the walls the robot saw there have no sketch wall near them, while every sketch wall it would
+  // see lies on an observed one.
+  const IcpScene s = makeScene();
+  Points2d partial;
+  for (const Vector2d& p : s.sketch) {
+    if (!(p.x() >= 43.9 && p.y() >= 19.9)) partial.push_back(p);
+  }
+  const PointKdTree2d tree(PointKdTree2d::Points(s.observed_world.begin(), s.observed_world.end()));
+  const ObservedIndex index{&tree, s.robot_world};
+  ScaleIcpConfig strict;
+  strict.forward_inlier_slack = 0.0;
+  ScaleIcpConfig slack;
+  slack.forward_inlier_slack = 0.25;
+  const IcpResult truth = ScaleIcp(partial, strict).evaluate(s.truth, s.observed_world, &index);
+  ASSERT_TRUE(truth.usable);
+  ASSERT_TRUE(truth.reverse_inlier_ratio.has_value());
+  EXPECT_GT(*truth.reverse_inlier_ratio, 0.9);
+  EXPECT_LT(truth.forward_inlier_ratio, strict.min_inlier_ratio);
+  EXPECT_GT(truth.forward_inlier_ratio, strict.min_inlier_ratio - slack.forward_inlier_slack);
+  EXPECT_DOUBLE_EQ(truth.inlier_ratio, truth.forward_inlier_ratio);
+  EXPECT_FALSE(truth.valid);
+  EXPECT_TRUE(ScaleIcp(partial, slack).evaluate(s.truth, s.observed_world, &index).valid);
+  // Wrong placements put sketch walls where the LiDAR saw free space: the reverse bound, which
+  // the slack leaves as it is, refuses them.
+  for (const Sim2& wrong : {Sim2(s.truth.yaw_rad + M_PI / 2, s.truth.scale, s.truth.t_m),
+                            Sim2(s.truth.yaw_rad, s.truth.scale, s.truth.t_m + Vector2d(3, 0)),
+                            Sim2(s.truth.yaw_rad, 0.8 * s.truth.scale, s.truth.t_m)}) {
+    const IcpResult r = ScaleIcp(partial, slack).evaluate(wrong, s.observed_world, &index);
+    EXPECT_FALSE(r.valid) << wrong.toString() << " reverse "
+                          << r.reverse_inlier_ratio.value_or(-1.0) << " forward "
+                          << r.forward_inlier_ratio;
+  }
+  // Without a reverse term the forward ratio is held to the full bound.
+  EXPECT_FALSE(ScaleIcp(partial, slack).evaluate(s.truth, s.observed_world).valid);
+  ScaleIcpConfig absurd;
+  absurd.forward_inlier_slack = absurd.min_inlier_ratio + 0.1;
+  EXPECT_THROW(absurd.validate(), ConfigError);
+}
+
 TEST(ScaleIcp, ScaleStaysWithinBounds) {
   const IcpScene s = makeScene();
   ScaleIcpConfig config;

@@ -42,7 +42,8 @@
 // --reference: a placement of a real sketch found offline, for the diagnostics above only (its
 //   success is still judged by the wall fit).
 // Registration parameters for ablations: --eta, --fitness-threshold-m, --min-inlier-ratio,
-// --kept-fitness-threshold-m, --kept-min-inlier-ratio, --kept-min-inside-ratio,
+// --kept-fitness-threshold-m, --kept-min-inlier-ratio, --forward-inlier-slack,
+// --slack-min-reverse-ratio, --kept-min-inside-ratio,
 // --inlier-distance-m, --slice-min-dz-m, --slice-max-dz-m, --wall-columns 0|1, --column-cell-m,
 // --wall-min-height-m, --wall-max-gap-m, --icp-range-m, --max-range-m, --unknown-empty-bins 0|1,
 // --clip-to-range 0|1, --scale-levels, --coarse-shift-keep, --sketch-point-radius-m,
@@ -898,10 +899,11 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
         const reg::HistoryFit hf = registration.historyFit(*diag_truth);
         std::fprintf(
             stderr,
-            "           truth: F %.2f (forward %.2f, reverse %.2f), inliers %.2f, coverage "
-            "%.2f, %d points (%.2f inside the sketch), valid %d; history %d in %d, inliers "
-            "%.2f\n",
-            e.fitness_m, e.forward_fitness_m, e.reverse_fitness_m, e.inlier_ratio, e.coverage,
+            "           truth: F %.2f (forward %.2f, reverse %.2f), inliers %.2f (forward %.2f, "
+            "reverse %.2f), coverage %.2f, %d points (%.2f inside the sketch), valid %d; history "
+            "%d in %d, inliers %.2f\n",
+            e.fitness_m, e.forward_fitness_m, e.reverse_fitness_m, e.inlier_ratio,
+            e.forward_inlier_ratio, e.reverse_inlier_ratio.value_or(std::nan("")), e.coverage,
             e.num_points, e.inside_ratio, e.valid, hf.inside, hf.points, hf.inlierRatio());
         diagnostics->frame(p.head<2>(), r, registration, obs, index);
       }
@@ -955,6 +957,8 @@ Options parse(int argc, char** argv) {
                         "wall-columns",
                         "kept-fitness-threshold-m",
                         "kept-min-inlier-ratio",
+                        "forward-inlier-slack",
+                        "slack-min-reverse-ratio",
                         "kept-min-inside-ratio",
                         "inlier-distance-m",
                         "column-cell-m",
@@ -1025,6 +1029,10 @@ Options parse(int argc, char** argv) {
       args.number("inlier-distance-m", o.registration.icp.inlier_distance_m);
   o.registration.kept_min_inlier_ratio =
       args.number("kept-min-inlier-ratio", o.registration.kept_min_inlier_ratio);
+  o.registration.icp.forward_inlier_slack =
+      args.number("forward-inlier-slack", o.registration.icp.forward_inlier_slack);
+  o.registration.icp.slack_min_reverse_ratio =
+      args.number("slack-min-reverse-ratio", o.registration.icp.slack_min_reverse_ratio);
   o.registration.kept_min_inside_ratio =
       args.number("kept-min-inside-ratio", o.registration.kept_min_inside_ratio);
   o.registration.observation.wall_columns =

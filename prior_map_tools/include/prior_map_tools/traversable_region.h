@@ -24,6 +24,11 @@ struct TraversableConfig {
   double max_outer_gap_m = 4.0;
   /// Components smaller than this are dropped (closets without doors, specks) [m^2].
   double min_region_area_m2 = 2.0;
+  /// An enclosed area whose bounding box spans less than this fraction of the ink's (diagonals)
+  /// is a closet or a service core inside an outline the drawing left open (a partial sketch),
+  /// not the building: the ink's convex hull is the footprint then. A building's or a cave's own
+  /// outline spans its strokes.
+  double min_enclosed_span_fraction = 0.5;
 
   void validate() const;
 };
@@ -34,8 +39,8 @@ struct TraversableRegion {
   cv::Mat1i components;  ///< component label per pixel, 0 = none, 1..n
   std::vector<double> component_area_m2;  ///< index i holds label i + 1, largest first
   int outer_gap_closing_px = 0;           ///< radius used to seal the outer wall (drawings)
-  /// The drawing's outline encloses no usable region (a partial sketch): the footprint is the
-  /// convex hull of the ink instead.
+  /// The drawing's outline encloses no usable region, or only one spanning a small part of the
+  /// strokes (a partial sketch): the footprint is the convex hull of the ink instead.
   bool outer_outline_open = false;
   double area_m2 = 0.0;
 

@@ -41,6 +41,7 @@ PriorMapServerConfig loadPriorMapServerConfig(const ros::NodeHandle& private_nh)
   p.get("robot_radius_m", b.traversable.robot_radius_m);
   p.get("max_outer_gap_m", b.traversable.max_outer_gap_m);
   p.get("min_region_area_m2", b.traversable.min_region_area_m2);
+  p.get("min_enclosed_span_fraction", b.traversable.min_enclosed_span_fraction);
   p.get("spur_prune_length_m", b.skeleton.spur_prune_length_m);
   p.get("prm_node_spacing_m", b.prm.node_spacing_m);
   p.get("prm_k_neighbours", b.prm.k_neighbours);

@@ -13,12 +13,15 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 
 #include "efs_common/point_kdtree.h"
 #include "efs_common/sim2.h"
 #include "sketch_registration/types.h"
 
 namespace efs::registration {
+
+struct IcpResult;
 
 struct ScaleIcpConfig {
   int max_iterations = 60;
@@ -35,6 +38,16 @@ struct ScaleIcpConfig {
   double fitness_trim_ratio = 0.8;    ///< F over this fraction of the closest observed points
   double inlier_distance_m = 1.0;     ///< for the inlier ratio
   double min_inlier_ratio = 0.75;     ///< below this the hypothesis is invalid
+  /// How much lower the forward (observation -> sketch) inlier ratio may be than the inlier
+  /// bound, for a fit whose reverse ratio (visible sketch -> observation) is at least
+  /// slack_min_reverse_ratio. Walls the drawing leaves out (a partial sketch) are unexplained
+  /// observed walls at the true placement, while every sketch wall in view lies on an observed
+  /// one (small cave, partial: forward 0.55-0.74, reverse 0.96-1.0). A wrong placement on a
+  /// repetitive floor can lay most sketch walls in view on observed ones too (office, one room
+  /// off: forward 0.72, reverse 0.84), hence the high reverse gate. 0: both directions are held
+  /// to the same bound.
+  double forward_inlier_slack = 0.1;
+  double slack_min_reverse_ratio = 0.95;
   double sketch_margin_m = 3.0;       ///< sketch frame, around the sketch's bounding box
   int min_points = 20;                ///< observed points inside the sketch needed
   bool reject_scale_at_bound = true;  ///< a refined scale pinned to scale_min/max is invalid
@@ -64,6 +77,10 @@ struct ScaleIcpConfig {
   int coarse_points = 150;
   double coarse_truncation_m = 1.0;
   void validate() const;
+  /// Whether a fit's inlier ratios pass `bound`: both directions `bound`, or the forward one
+  /// `bound - forward_inlier_slack` where the reverse one reaches slack_min_reverse_ratio;
+  /// without a reverse ratio, the forward one `bound`.
+  bool inliersPass(const IcpResult& r, double bound) const;
 };
 
 /// What the reverse fitness term needs: the dense projected observation and the robot position.
@@ -76,6 +93,9 @@ struct IcpResult {
   Sim2 T_world_sketch;
   double fitness_m = 1e9;     ///< F: mean of the forward and (if available) reverse trimmed means
   double inlier_ratio = 0.0;  ///< the smaller of the two directions' inlier ratios
+  double forward_inlier_ratio = 0.0;  ///< observed points within inlier_distance_m of the sketch
+  /// Visible sketch points within inlier_distance_m of an observed one (when evaluated).
+  std::optional<double> reverse_inlier_ratio;
   double forward_fitness_m = 1e9;  ///< observation -> sketch
   double reverse_fitness_m = 0.0;  ///< visible sketch -> observation (0 when not evaluated)
   /// Share of all observed points within inlier_distance_m of the mapped sketch, those outside
@@ -85,7 +105,7 @@ struct IcpResult {
   double inside_ratio = 0.0;
   int iterations = 0;
   int num_points = 0;  ///< observed points used (those within the sketch's extent)
-  /// usable, inlier_ratio >= min_inlier_ratio and inside_ratio >= min_inside_ratio
+  /// usable, ScaleIcpConfig::inliersPass(min_inlier_ratio) and inside_ratio >= min_inside_ratio
   bool valid = false;
   /// At least min_points observed points inside the sketch and the scale not pinned: F, the
   /// inlier ratio and the coverage are computed (whatever the inside ratio; callers that hold a

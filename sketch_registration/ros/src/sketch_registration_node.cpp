@@ -60,6 +60,8 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   p.get("kept_fitness_threshold_m", r.kept_fitness_threshold_m);
   p.get("min_inlier_ratio", r.icp.min_inlier_ratio);
   p.get("kept_min_inlier_ratio", r.kept_min_inlier_ratio);
+  p.get("forward_inlier_slack", r.icp.forward_inlier_slack);
+  p.get("slack_min_reverse_ratio", r.icp.slack_min_reverse_ratio);
   p.get("min_inside_ratio", r.icp.min_inside_ratio);
   p.get("kept_min_inside_ratio", r.kept_min_inside_ratio);
   p.get("confirm_frames", r.confirm_frames);
