@@ -180,13 +180,14 @@ TraversableRegion extractTraversable(const LoadedSketch& sketch, const Traversab
       while (chosen + 1 < radii.size() && area[chosen + 1] > 1.25 * area[chosen]) ++chosen;
     }
     // The span of what is enclosed, without what the closing itself filled in (it rounds every
-    // corner of the strokes, enclosed or not).
+    // corner of the strokes, enclosed or not). The chosen radius' closing is done again rather
+    // than every radius' kept from the loop above: one closing against a page-sized mask each.
     const auto diagonal = [](const cv::Rect& r) { return std::hypot(r.width, r.height); };
     const bool closet_only =
         best > 0.0 &&
         diagonal(cv::boundingRect(footprints[chosen] &
                                   ~closeWalls(padded_walls, dist_to_wall, radii[chosen])(page))) <
-            config.min_enclosed_span_fraction * diagonal(cv::boundingRect(walls));
+            config.min_enclosed_span_fraction * diagonal(cv::boundingRect(ink));
     if (best <= 0.0 || closet_only) {
       if (cv::countNonZero(hull_footprint & ~walls) == 0) {
         throw PriorMapError(name +

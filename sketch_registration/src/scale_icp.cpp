@@ -193,7 +193,6 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
   r.coverage = fwd.second * static_cast<double>(d.size()) / static_cast<double>(observed.size());
   r.forward_fitness_m = fwd.first;
   r.fitness_m = fwd.first;
-  r.inlier_ratio = fwd.second;
   r.forward_inlier_ratio = fwd.second;
   if (reverse && reverse->tree && reverse->tree->size() > 0 && config_.reverse_range_m > 0.0) {
     // Sketch points that the robot would see under T (HPR in the sketch frame, range mapped by
@@ -230,7 +229,6 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
       const auto rev = trimmedMean(dr, config_.fitness_trim_ratio, config_.inlier_distance_m);
       r.reverse_fitness_m = rev.first;
       r.fitness_m = 0.5 * (fwd.first + rev.first);
-      r.inlier_ratio = std::min(fwd.second, rev.second);
       r.reverse_inlier_ratio = rev.second;
     }
   }

@@ -421,7 +421,7 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
       // The window's own fit at the joint transform decides, as without a history.
       const IcpResult e = icp_->evaluate(g.T_world_sketch, icp_points, &observed);
       if (judged(e) &&
-          (!judged(r) || e.inlier_ratio >= r.inlier_ratio - config_.history_inlier_slack)) {
+          (!judged(r) || e.inlierRatio() >= r.inlierRatio() - config_.history_inlier_slack)) {
         r = e;
       }
     }
@@ -509,7 +509,7 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
     h.id = k.id ? *k.id : next_id_++;
     h.T_world_sketch = k.r.T_world_sketch;
     h.fitness_m = k.r.fitness_m;
-    h.inlier_ratio = k.r.inlier_ratio;
+    h.inlier_ratio = k.r.inlierRatio();
     h.coverage = k.r.coverage;
     h.history = k.history;
     h.age_frames = k.age + 1;

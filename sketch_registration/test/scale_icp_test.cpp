@@ -110,7 +110,7 @@ TEST(ScaleIcp, ConvergesFromPerturbedStart) {
     EXPECT_LT(worstWallError(r.T_world_sketch, s), 0.6)
         << init.toString() << " -> " << r.T_world_sketch.toString();
     EXPECT_LT(r.fitness_m, 0.1);
-    EXPECT_GT(r.inlier_ratio, 0.95);
+    EXPECT_GT(r.inlierRatio(), 0.95);
   }
   // The other sign combinations are at the edge of the capture range on this floor: they must
   // either converge or be rejected (invalid or F above the default F_thresh), never be wrong and
@@ -161,7 +161,7 @@ TEST(ScaleIcp, ForwardSlackAdmitsAPartialSketchAtTheTruthButNoWrongPlacement) {
   EXPECT_GT(*truth.reverse_inlier_ratio, 0.9);
   EXPECT_LT(truth.forward_inlier_ratio, strict.min_inlier_ratio);
   EXPECT_GT(truth.forward_inlier_ratio, strict.min_inlier_ratio - slack.forward_inlier_slack);
-  EXPECT_DOUBLE_EQ(truth.inlier_ratio, truth.forward_inlier_ratio);
+  EXPECT_DOUBLE_EQ(truth.inlierRatio(), truth.forward_inlier_ratio);
   EXPECT_FALSE(truth.valid);
   EXPECT_TRUE(ScaleIcp(partial, slack).evaluate(s.truth, s.observed_world, &index).valid);
   // Wrong placements put sketch walls where the LiDAR saw free space: the reverse bound, which
@@ -245,7 +245,7 @@ TEST(ScaleIcp, CoverageCountsObservedWallsBeyondTheSketchAsUnexplained) {
   const IcpResult truth = icp.evaluate(Sim2(), observed);
   const IcpResult shrunken = icp.evaluate(Sim2(0.0, 0.5, Vector2d::Zero()), observed);
   EXPECT_GT(truth.coverage, 0.99);
-  EXPECT_GT(shrunken.inlier_ratio, 0.95) << shrunken.coverage;
+  EXPECT_GT(shrunken.inlierRatio(), 0.95) << shrunken.coverage;
   EXPECT_LT(shrunken.fitness_m, 0.05);
   EXPECT_TRUE(shrunken.valid);
   // The quarter plus the sketch margin (3 m): about (19 / 32)^2 of the walls.
@@ -279,7 +279,7 @@ TEST(ScaleIcp, AFitMostlyOutsideAPartialSketchIsJudgedOnWhatLiesInside) {
   EXPECT_NEAR(r.inside_ratio, 3.0 / 9.0 * 45.0 / 129.0, 0.01);
   EXPECT_LT(r.inside_ratio, config.min_inside_ratio);
   // Inside, only the margin's stubs of the undrawn walls (x or y in (9, 11]) are off the sketch.
-  EXPECT_GT(r.inlier_ratio, config.min_inlier_ratio);
+  EXPECT_GT(r.inlierRatio(), config.min_inlier_ratio);
   EXPECT_LT(r.fitness_m, 0.2);
   // Held to a lower inside bound, the same fit is valid.
   config.min_inside_ratio = 0.1;

@@ -660,7 +660,7 @@ struct TruthDiagnostics {
                    "           representative %zu of %zu at placement %.2f m (cluster %d, %d "
                    "corr., fd %.3f): refined F %.2f inliers %.2f usable %d, placement %.2f m\n",
                    i, reps.size(), pl, reps[i].cluster_size, reps[i].num_correspondences,
-                   reps[i].fd_distance, f.fitness_m, f.inlier_ratio, f.usable,
+                   reps[i].fd_distance, f.fitness_m, f.inlierRatio(), f.usable,
                    placementRms(sketch_walls, f.T_world_sketch, truth));
       break;
     }
@@ -891,7 +891,7 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
       const reg::IcpResult e = truth_icp->evaluate(*diag_truth, obs.icp_m, &index);
       if (e.num_points > 0) {
         tr.truth_fitness_m.push_back(e.fitness_m);
-        tr.truth_inliers.push_back(e.inlier_ratio);
+        tr.truth_inliers.push_back(e.inlierRatio());
         tr.truth_coverage.push_back(e.coverage);
         tr.truth_accepted += e.valid && e.fitness_m <= config.fitness_threshold_m;
       }
@@ -902,7 +902,7 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
             "           truth: F %.2f (forward %.2f, reverse %.2f), inliers %.2f (forward %.2f, "
             "reverse %.2f), coverage %.2f, %d points (%.2f inside the sketch), valid %d; history "
             "%d in %d, inliers %.2f\n",
-            e.fitness_m, e.forward_fitness_m, e.reverse_fitness_m, e.inlier_ratio,
+            e.fitness_m, e.forward_fitness_m, e.reverse_fitness_m, e.inlierRatio(),
             e.forward_inlier_ratio, e.reverse_inlier_ratio.value_or(std::nan("")), e.coverage,
             e.num_points, e.inside_ratio, e.valid, hf.inside, hf.points, hf.inlierRatio());
         diagnostics->frame(p.head<2>(), r, registration, obs, index);

@@ -12,6 +12,7 @@
 // bounded, both overall and per iteration.
 #pragma once
 
+#include <algorithm>
 #include <memory>
 #include <optional>
 
@@ -91,8 +92,7 @@ struct ObservedIndex {
 
 struct IcpResult {
   Sim2 T_world_sketch;
-  double fitness_m = 1e9;     ///< F: mean of the forward and (if available) reverse trimmed means
-  double inlier_ratio = 0.0;  ///< the smaller of the two directions' inlier ratios
+  double fitness_m = 1e9;  ///< F: mean of the forward and (if available) reverse trimmed means
   double forward_inlier_ratio = 0.0;  ///< observed points within inlier_distance_m of the sketch
   /// Visible sketch points within inlier_distance_m of an observed one (when evaluated).
   std::optional<double> reverse_inlier_ratio;
@@ -112,6 +112,12 @@ struct IcpResult {
   /// fit to another inside bound than min_inside_ratio check inside_ratio themselves).
   bool usable = false;
   bool scale_at_bound = false;  ///< refine() ended on scale_min or scale_max
+
+  /// The smaller of the two directions' inlier ratios.
+  double inlierRatio() const {
+    return reverse_inlier_ratio ? std::min(forward_inlier_ratio, *reverse_inlier_ratio)
+                                : forward_inlier_ratio;
+  }
 };
 
 /// How walls observed earlier (ObservationHistory::beyond) lie on the sketch mapped by a
