@@ -58,9 +58,12 @@ void SketchRegistrationConfig::validate() const {
   requireInRange("coverage_weight_m", coverage_weight_m, 0.0, 1e3);
   requirePositive("max_speed_mps", max_speed_mps);
   requireInRange("max_icp_inputs", max_icp_inputs, 1, 100000);
+  requireInRange("screen_points", screen_points, 0, 100000);
+  requireInRange("screen_iterations", screen_iterations, 1, 1000);
   requireInRange("icp_retry_frames", icp_retry_frames, 0, 100000);
   requireInRange("dormant_frames", dormant_frames, 0, 100000);
   requireInRange("mirror_min_age_frames", mirror_min_age_frames, 1, 100000);
+  requireInRange("mirror_dominance_coverage", mirror_dominance_coverage, 0.0, 1.0);
   requireInRange("max_hypotheses", max_hypotheses, 1, 100000);
   requirePositive("merge_distance", merge_distance);
   history.validate();
@@ -161,6 +164,12 @@ SketchRegistration::SketchRegistration(const Config& config, Points2d sketch_bou
   database_ = CandidateDatabase(sketch_, std::move(candidates_m), sketchDescriptorConfig(config_),
                                 sketchRangeLevelsM(config_));
   icp_ = std::make_unique<ScaleIcp>(sketch_, scaleIcpConfig(config_));
+  ScaleIcpConfig screen = scaleIcpConfig(config_);
+  screen.coarse_yaw_steps = screen.coarse_scale_steps = 0;
+  screen.max_iterations = config_.screen_iterations;
+  screen.iteration_points = 0;
+  screen.symmetric = false;
+  screen_icp_ = std::make_unique<ScaleIcp>(sketch_, screen);
 }
 
 void SketchRegistration::reset() {
@@ -283,6 +292,20 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
       ++awaiting;
     }
   }
+  const auto bestCoverage = [](const std::vector<Hypothesis>& hs) {
+    double c = 0.0;
+    for (const Hypothesis& h : hs) c = std::max(c, h.coverage);
+    return c;
+  };
+  const bool mirror_persisted = std::any_of(
+      result_.mirrored_hypotheses.begin(), result_.mirrored_hypotheses.end(),
+      [&](const Hypothesis& h) { return h.age_frames >= config_.mirror_min_age_frames; });
+  const double mirror_coverage = bestCoverage(result_.mirrored_hypotheses);
+  const double proper_coverage = bestCoverage(result_.hypotheses);
+  const bool mirror_dominates =
+      mirror_persisted && !result_.hypotheses.empty() &&
+      mirror_coverage >= proper_coverage + config_.mirror_dominance_coverage;
+  if (mirror_dominates) result_.hypotheses.clear();
   rankHypotheses(result_.hypotheses, config_.confidence_tau, config_.coverage_weight_m);
   rankHypotheses(result_.mirrored_hypotheses, config_.confidence_tau, config_.coverage_weight_m);
   result_.best_is_mirrored =
@@ -293,11 +316,15 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
     result_.status = RegistrationStatus::kOk;
     os << result_.hypotheses.size() << " hypotheses; best F = " << result_.hypotheses[0].fitness_m
        << " m" << (result_.best_is_mirrored ? " (mirror-image sketch)" : "");
-  } else if (!result_.mirrored_hypotheses.empty() &&
-             result_.mirrored_hypotheses.front().age_frames >= config_.mirror_min_age_frames) {
+  } else if (mirror_persisted) {
     result_.status = RegistrationStatus::kMirroredSketch;
-    os << "only mirror-image transforms fit the sketch (best F = "
-       << result_.mirrored_hypotheses[0].fitness_m << " m): the sketch looks mirrored";
+    if (mirror_dominates)
+      os << "mirror-image transforms explain far more of the observation than the others "
+            "(coverage "
+         << mirror_coverage << " against " << proper_coverage << "): the sketch looks mirrored";
+    else
+      os << "only mirror-image transforms fit the sketch (best F = "
+         << result_.mirrored_hypotheses[0].fitness_m << " m): the sketch looks mirrored";
   } else if (awaiting > 0) {
     result_.status = RegistrationStatus::kAwaitingConfirmation;
     os << awaiting << " new transform(s) passed the fitness test; reported once confirmed on "
@@ -318,6 +345,58 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
   }
   result_.message = os.str();
   return result_;
+}
+
+std::vector<Sim2> SketchRegistration::newInputs(const Points2d& icp_points) const {
+  std::vector<Sim2> fresh;
+  for (const Representative& r : verifier_.representatives()) {
+    if (config_.screen_points == 0 && static_cast<int>(fresh.size()) >= config_.max_icp_inputs)
+      break;
+    // A representative already tracked by a live hypothesis only costs a refinement. One near a
+    // dormant hypothesis is refined too, with the wide capture radius: the dormant one's narrow
+    // refinement is what failed.
+    bool known = false;
+    for (const Hypothesis& h : live_) {
+      if (transformDistance(h.T_world_sketch, r.T_world_sketch, config_.verifier.lambda) <
+          config_.merge_distance) {
+        known = true;
+        break;
+      }
+    }
+    // Transforms that just failed the fitness test wait a few frames for the map to grow.
+    for (const Rejected& x : rejected_) {
+      if (transformDistance(x.T, r.T_world_sketch, config_.verifier.lambda) <
+          config_.merge_distance) {
+        known = true;
+        break;
+      }
+    }
+    if (known) continue;
+    fresh.push_back(r.T_world_sketch);
+  }
+  if (static_cast<int>(fresh.size()) <= config_.max_icp_inputs) return fresh;
+  // Half the budget keeps the verifier's order (the best supported tracks: a distorted drawing's
+  // true track, which a nearby wrong placement can outscore on one frame's window); the other
+  // half goes to the best screened among the rest.
+  const size_t by_support = static_cast<size_t>(config_.max_icp_inputs / 2);
+  Points2d sample;
+  const double step = std::max(1.0, static_cast<double>(icp_points.size()) / config_.screen_points);
+  for (double i = 0.0; i < static_cast<double>(icp_points.size()); i += step)
+    sample.push_back(icp_points[static_cast<size_t>(i)]);
+  std::vector<std::pair<double, size_t>> score;
+  for (size_t k = by_support; k < fresh.size(); ++k) {
+    const IcpResult r = screen_icp_->refine(fresh[k], sample);
+    // Ties (a common inlier share) go to the smaller fitness, then to the verifier's order; a
+    // failed fit (no points inside the sketch: NaN) goes last.
+    const double s = r.forward_inlier_ratio - 1e-3 * std::min(r.fitness_m, 100.0);
+    score.push_back({std::isfinite(s) ? s : -1.0, k});
+  }
+  std::stable_sort(score.begin(), score.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<Sim2> out(fresh.begin(), fresh.begin() + static_cast<long>(by_support));
+  for (size_t k = 0; out.size() < static_cast<size_t>(config_.max_icp_inputs); ++k)
+    out.push_back(fresh[score[k].second]);
+  return out;
 }
 
 void SketchRegistration::updateHypotheses(const Points2d& icp_points, const ObservedIndex& observed,
@@ -341,32 +420,7 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
                   rejected_.end());
   for (const Hypothesis& h : live_) inputs.push_back({h.id, h.age_frames, h.T_world_sketch});
   for (const Dormant& d : dormant_) inputs.push_back({d.h.id, d.h.age_frames, d.h.T_world_sketch});
-  int added = 0;
-  for (const Representative& r : verifier_.representatives()) {
-    if (added >= config_.max_icp_inputs) break;
-    // A representative already tracked by a live hypothesis only costs a refinement. One near a
-    // dormant hypothesis is refined too, with the wide capture radius: the dormant one's narrow
-    // refinement is what failed.
-    bool known = false;
-    for (const Hypothesis& h : live_) {
-      if (transformDistance(h.T_world_sketch, r.T_world_sketch, config_.verifier.lambda) <
-          config_.merge_distance) {
-        known = true;
-        break;
-      }
-    }
-    // Transforms that just failed the fitness test wait a few frames for the map to grow.
-    for (const Rejected& x : rejected_) {
-      if (transformDistance(x.T, r.T_world_sketch, config_.verifier.lambda) <
-          config_.merge_distance) {
-        known = true;
-        break;
-      }
-    }
-    if (known) continue;
-    inputs.push_back({std::nullopt, 0, r.T_world_sketch});
-    ++added;
-  }
+  for (const Sim2& T : newInputs(icp_points)) inputs.push_back({std::nullopt, 0, T});
   struct Refined {
     std::optional<int> id;
     int age;

@@ -142,6 +142,15 @@ TEST(BadInput, ConfigValidationNamesTheKey) {
   c.verifier.n_f = 2;
   expectKey(c, "n_f");
   c = {};
+  c.screen_points = -1;
+  expectKey(c, "screen_points");
+  c = {};
+  c.screen_iterations = 0;
+  expectKey(c, "screen_iterations");
+  c = {};
+  c.mirror_dominance_coverage = 1.5;
+  expectKey(c, "mirror_dominance_coverage");
+  c = {};
   c.descriptor.num_bins = 91;  // not divisible by the coarse shift factor
   expectKey(c, "coarse_shift_factor");
   c = {};

@@ -574,5 +574,26 @@ TEST(EndToEnd, RememberedWallsTellARepetitivePassageApart) {
   EXPECT_GE(offFrames(false, &registered), 5);
 }
 
+TEST(EndToEnd, ScreeningRefinesTheBestFittingTransformsFirst) {
+  // One refinement a frame: which new transform gets it decides how soon the truth is found.
+  const Sim2 truth(0.9, 1.3, Vector2d(20.0, -10.0));
+  const syn::Scenario sc = officeScenario(truth);
+  const auto firstCorrectFrame = [&](int screen_points) {
+    SketchRegistration::Config config;
+    config.max_icp_inputs = 1;
+    config.screen_points = screen_points;
+    SketchRegistration reg(config, sc.sketch_points_m, sc.candidates_m);
+    const ScenarioRun run = runScenario(sc, reg);
+    for (size_t k = 0; k < run.frames.size(); ++k) {
+      const auto& hs = run.frames[k].hypotheses;
+      if (!hs.empty() && worstError(hs.front().T_world_sketch, truth, sc) < 1.0)
+        return static_cast<int>(k);
+    }
+    return 1000;
+  };
+  // Seen: the 4th frame screened, the 8th in the verifier's order (most correspondences first).
+  EXPECT_LT(firstCorrectFrame(32), firstCorrectFrame(0));
+}
+
 }  // namespace
 }  // namespace efs::registration

@@ -43,7 +43,7 @@
 //   success is still judged by the wall fit).
 // Registration parameters for ablations: --eta, --fitness-threshold-m, --min-inlier-ratio,
 // --kept-fitness-threshold-m, --kept-min-inlier-ratio, --forward-inlier-slack,
-// --slack-min-reverse-ratio, --kept-min-inside-ratio,
+// --slack-min-reverse-ratio, --kept-min-inside-ratio, --screen-points,
 // --inlier-distance-m, --slice-min-dz-m, --slice-max-dz-m, --wall-columns 0|1, --column-cell-m,
 // --wall-min-height-m, --wall-max-gap-m, --icp-range-m, --max-range-m, --unknown-empty-bins 0|1,
 // --clip-to-range 0|1, --scale-levels, --coarse-shift-keep, --sketch-point-radius-m,
@@ -958,6 +958,7 @@ Options parse(int argc, char** argv) {
                         "kept-fitness-threshold-m",
                         "kept-min-inlier-ratio",
                         "forward-inlier-slack",
+                        "screen-points",
                         "slack-min-reverse-ratio",
                         "kept-min-inside-ratio",
                         "inlier-distance-m",
@@ -1033,6 +1034,8 @@ Options parse(int argc, char** argv) {
       args.number("forward-inlier-slack", o.registration.icp.forward_inlier_slack);
   o.registration.icp.slack_min_reverse_ratio =
       args.number("slack-min-reverse-ratio", o.registration.icp.slack_min_reverse_ratio);
+  o.registration.screen_points =
+      static_cast<int>(args.integer("screen-points", o.registration.screen_points));
   o.registration.kept_min_inside_ratio =
       args.number("kept-min-inside-ratio", o.registration.kept_min_inside_ratio);
   o.registration.observation.wall_columns =

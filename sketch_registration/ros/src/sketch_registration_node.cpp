@@ -68,6 +68,9 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   p.get("dormant_frames", r.dormant_frames);
   p.get("settled_coverage", r.settled_coverage);
   p.get("coverage_weight_m", r.coverage_weight_m);
+  p.get("screen_points", r.screen_points);
+  p.get("screen_iterations", r.screen_iterations);
+  p.get("mirror_dominance_coverage", r.mirror_dominance_coverage);
   p.get("empty_observed_bins_unknown", r.descriptor.empty_observed_bins_unknown);
   p.get("clip_to_range", r.descriptor.clip_to_range);
   p.get("sketch_point_radius_m", r.sketch_point_radius_m);
