@@ -379,10 +379,7 @@ std::vector<Sim2> SketchRegistration::newInputs(const Points2d& icp_points) cons
   // true track, which a nearby wrong placement can outscore on one frame's window); the other
   // half goes to the best screened among the rest.
   const size_t by_support = static_cast<size_t>(config_.max_icp_inputs / 2);
-  Points2d sample;
-  const double step = std::max(1.0, static_cast<double>(icp_points.size()) / config_.screen_points);
-  for (double i = 0.0; i < static_cast<double>(icp_points.size()); i += step)
-    sample.push_back(icp_points[static_cast<size_t>(i)]);
+  const Points2d sample = thinEvenly(icp_points, static_cast<size_t>(config_.screen_points));
   std::vector<std::pair<double, size_t>> score;
   for (size_t k = by_support; k < fresh.size(); ++k) {
     const IcpResult r = screen_icp_->refine(fresh[k], sample);
