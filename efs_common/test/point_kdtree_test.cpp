@@ -25,6 +25,28 @@ TEST(PointKdTree, KnnMatchesBruteForce) {
   }
 }
 
+TEST(PointKdTree, NearestIsTheFirstOfKnn) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-20, 20);
+  PointKdTree2d::Points pts;
+  for (int i = 0; i < 300; ++i) pts.emplace_back(u(rng), u(rng));
+  // Exact ties: a grid, as rasterised sketches give, queried at points equidistant to several.
+  for (int i = 0; i < 10; ++i) pts.emplace_back(30.0 + i, 30.0);
+  PointKdTree2d tree(pts);
+  std::vector<Eigen::Vector2d> queries;
+  for (int trial = 0; trial < 200; ++trial) queries.emplace_back(u(rng), u(rng));
+  for (int i = 0; i < 9; ++i) queries.emplace_back(30.5 + i, 31.0);
+  for (const Eigen::Vector2d& q : queries) {
+    const auto first = tree.knn(q, 1).front();
+    const auto nn = tree.nearest(q);
+    EXPECT_EQ(nn.first, first.first) << q.transpose();
+    EXPECT_EQ(nn.second, first.second) << q.transpose();
+    double best = 1e300;
+    for (const auto& p : pts) best = std::min(best, (p - q).squaredNorm());
+    EXPECT_NEAR(nn.second, best, 1e-9);
+  }
+}
+
 TEST(PointKdTree, RadiusSearchFindsExactlyThePointsInside) {
   PointKdTree3d::Points pts;
   for (int i = 0; i < 10; ++i) pts.emplace_back(i, 0, 0);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "efs_common/angles.h"
 #include "efs_common/config_check.h"
@@ -51,21 +52,37 @@ bool ScaleIcpConfig::inliersPass(const IcpResult& r, double bound) const {
   return rev >= bound && r.forward_inlier_ratio >= bound - slack;
 }
 
-ScaleIcp::ScaleIcp(const Points2d& sketch_points_m, const ScaleIcpConfig& config)
-    : config_(config) {
-  config_.validate();
-  PointKdTree2d::Points pts;
-  box_min_ = Eigen::Vector2d::Constant(1e300);
-  box_max_ = -box_min_;
-  for (const auto& p : sketch_points_m) {
-    if (!p.allFinite()) continue;
-    pts.push_back(p);
-    box_min_ = box_min_.cwiseMin(p);
-    box_max_ = box_max_.cwiseMax(p);
+namespace {
+/// Bounding box of the finite points, grown by margin_m; empty (min > max) without points.
+std::pair<Eigen::Vector2d, Eigen::Vector2d> extentOf(const PointKdTree2d::Points& points,
+                                                     double margin_m) {
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(1e300);
+  Eigen::Vector2d hi = -lo;
+  for (const auto& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
   }
-  box_min_.array() -= config_.sketch_margin_m;
-  box_max_.array() += config_.sketch_margin_m;
-  tree_.reset(std::move(pts));
+  return {lo.array() - margin_m, hi.array() + margin_m};
+}
+}  // namespace
+
+ScaleIcp::SketchIndex ScaleIcp::indexSketch(const Points2d& sketch_points_m, double margin_m) {
+  PointKdTree2d::Points pts;
+  for (const auto& p : sketch_points_m) {
+    if (p.allFinite()) pts.push_back(p);
+  }
+  const auto [lo, hi] = extentOf(pts, margin_m);
+  return std::make_shared<const NearestPointGrid2d>(std::move(pts), lo, hi);
+}
+
+ScaleIcp::ScaleIcp(const Points2d& sketch_points_m, const ScaleIcpConfig& config)
+    : ScaleIcp(indexSketch(sketch_points_m, config.sketch_margin_m), config) {}
+
+ScaleIcp::ScaleIcp(SketchIndex sketch, const ScaleIcpConfig& config)
+    : config_(config), sketch_(std::move(sketch)) {
+  config_.validate();
+  if (!sketch_) sketch_ = std::make_shared<const NearestPointGrid2d>();
+  std::tie(box_min_, box_max_) = extentOf(sketch_->points(), config_.sketch_margin_m);
 }
 
 namespace {
@@ -119,7 +136,7 @@ Sim2 ScaleIcp::coarseSearch(const Sim2& T0, const Points2d& observed,
         sum += cap;
         continue;
       }
-      sum += std::min(cap, T.scale * std::sqrt(tree_.nearest(q).second));
+      sum += std::min(cap, T.scale * std::sqrt(sketch_->nearest(q).second));
     }
     double cost = sum / static_cast<double>(sample.size());
     // One-sided distances favour a smaller scale (denser sketch walls are always near); the
@@ -160,9 +177,9 @@ Points2d ScaleIcp::visibleSketch(const Sim2& T, const Eigen::Vector2d& robot_wor
   const Eigen::Vector2d q = T.inverse().apply(robot_world_m);
   const double range_sketch = config_.reverse_range_m / T.scale;
   Points2d nearby;
-  for (const auto& [idx, d2] : tree_.radius(q, range_sketch)) {
+  for (const auto& [idx, d2] : sketch_->tree().radius(q, range_sketch)) {
     (void)d2;
-    nearby.push_back(tree_.points()[idx]);
+    nearby.push_back(sketch_->points()[idx]);
   }
   HprConfig hpr;
   hpr.max_range_m = range_sketch;
@@ -175,14 +192,14 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
                              const ObservedIndex* reverse) const {
   IcpResult r;
   r.T_world_sketch = T;
-  if (tree_.size() == 0 || !T.isFinite() || !(T.scale > 0.0)) return r;
+  if (sketch_->size() == 0 || !T.isFinite() || !(T.scale > 0.0)) return r;
   const Sim2 inv = T.inverse();
   std::vector<double> d;
   d.reserve(observed.size());
   for (const auto& p : observed) {
     const Eigen::Vector2d q = inv.apply(p);
     if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
-    d.push_back(T.scale * std::sqrt(tree_.nearest(q).second));
+    d.push_back(T.scale * std::sqrt(sketch_->nearest(q).second));
   }
   r.num_points = static_cast<int>(d.size());
   if (r.num_points < config_.min_points) return r;
@@ -240,14 +257,14 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
 
 HistoryFit ScaleIcp::historyFit(const Sim2& T, const Points2d& remembered) const {
   HistoryFit h;
-  if (tree_.size() == 0 || !T.isFinite() || !(T.scale > 0.0)) return h;
+  if (sketch_->size() == 0 || !T.isFinite() || !(T.scale > 0.0)) return h;
   const Sim2 inv = T.inverse();
   for (const auto& p : remembered) {
     ++h.points;
     const Eigen::Vector2d q = inv.apply(p);
     if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
     ++h.inside;
-    h.explained += T.scale * std::sqrt(tree_.nearest(q).second) <= config_.inlier_distance_m;
+    h.explained += T.scale * std::sqrt(sketch_->nearest(q).second) <= config_.inlier_distance_m;
   }
   return h;
 }
@@ -256,7 +273,7 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
                            double start_correspondence_m, const ObservedIndex* reverse) const {
   Sim2 T = T_init;
   IcpResult out;
-  if (tree_.size() == 0 || !T.isFinite() || !(T.scale > 0.0)) {
+  if (sketch_->size() == 0 || !T.isFinite() || !(T.scale > 0.0)) {
     return evaluate(T, observed, reverse);
   }
   if (start_correspondence_m <= 0.0 &&
@@ -285,9 +302,9 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
     for (const auto& p : *iter_points) {
       const Eigen::Vector2d q = inv.apply(p);
       if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
-      const auto nn = tree_.nearest(q);
+      const auto nn = sketch_->nearest(q);
       const double d = T.scale * std::sqrt(nn.second);
-      if (d <= max_corr) pairs.push_back({d, tree_.points()[nn.first], p});
+      if (d <= max_corr) pairs.push_back({d, sketch_->points()[nn.first], p});
     }
     if (static_cast<int>(pairs.size()) < config_.min_points) break;
     if (config_.symmetric && reverse && reverse->tree && reverse->tree->size() > 0 &&

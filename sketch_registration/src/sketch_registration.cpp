@@ -169,7 +169,7 @@ SketchRegistration::SketchRegistration(const Config& config, Points2d sketch_bou
   screen.max_iterations = config_.screen_iterations;
   screen.iteration_points = 0;
   screen.symmetric = false;
-  screen_icp_ = std::make_unique<ScaleIcp>(sketch_, screen);
+  screen_icp_ = std::make_unique<ScaleIcp>(icp_->sketchIndex(), screen);
 }
 
 void SketchRegistration::reset() {

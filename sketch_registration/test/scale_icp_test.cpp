@@ -192,7 +192,7 @@ TEST(ScaleIcp, ScaleStaysWithinBounds) {
 }
 
 TEST(ScaleIcp, DegenerateInputsAreInvalidNotFatal) {
-  const ScaleIcp empty_sketch({}, ScaleIcpConfig{});
+  const ScaleIcp empty_sketch(Points2d{}, ScaleIcpConfig{});
   EXPECT_FALSE(empty_sketch.refine(Sim2(), {Vector2d(1, 1)}).valid);
   const IcpScene s = makeScene();
   const ScaleIcp icp(s.sketch, ScaleIcpConfig{});

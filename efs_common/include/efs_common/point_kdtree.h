@@ -44,8 +44,17 @@ class PointKdTree {
     return out;
   }
 
-  /// Nearest neighbour: (index, squared distance); size() must be > 0.
-  std::pair<size_t, double> nearest(const Point& q) const { return knn(q, 1).front(); }
+  /// Nearest neighbour: (index, squared distance); size() must be > 0. The result set lives on
+  /// the stack: through knn() the three vectors it allocates cost as much as the search itself,
+  /// and Scale-ICP and the screen ask this ~10^5 times a frame.
+  std::pair<size_t, double> nearest(const Point& q) const {
+    size_t index = 0;
+    double d2 = 0.0;
+    nanoflann::KNNResultSet<double, size_t> result(1);
+    result.init(&index, &d2);
+    index_->findNeighbors(result, q.data(), nanoflann::SearchParams());
+    return {index, d2};
+  }
 
   /// All points within `radius` (not squared): (index, squared distance), closest first.
   std::vector<std::pair<size_t, double>> radius(const Point& q, double radius) const {
