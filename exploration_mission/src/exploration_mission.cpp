@@ -277,7 +277,7 @@ void ExplorationMission::onRegistrationFrame(double t_s) {
   points.reserve(map.size());
   for (const auto& p : map) points.emplace_back(p.cast<double>());
   const registration::RegistrationResult& result = registration_->addFrame(t_s, robot_m, points);
-  log_.registrations.push_back({t_s, result.status, result.hypotheses});
+  log_.registrations.push_back({t_s, result.status, result.hypotheses, result.message});
   exploration_->setHypotheses(toPlannerHypotheses(result.hypotheses));
 }
 

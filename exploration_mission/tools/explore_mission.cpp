@@ -13,6 +13,7 @@
 #include "exploration_mission/mission_report.h"
 #include "exploration_mission/mission_spec.h"
 #include "exploration_mission/plan_log.h"
+#include "exploration_mission/registration_log.h"
 
 namespace {
 
@@ -22,7 +23,8 @@ constexpr const char* kUsage =
 Flies one headless closed-loop exploration in simulated time and writes DIR/summary.json,
 DIR/summary.md, DIR/trajectory.png, DIR/coverage.png, DIR/plan_log.csv (a line per planning
 cycle: mode, hypothesis, guidepoint states, next guidepoint, goal), and with a sketch DIR/prior.prior (the
-pre-processed sketch) and DIR/prior_overlay.png (and DIR/sketch.png when it draws one), and
+pre-processed sketch), DIR/prior_overlay.png (and DIR/sketch.png when it draws one) and
+DIR/registration_log.csv (a line per registration frame: status, its reason, best hypothesis), and
 what the mission leaves behind in DIR/map/: cloud.pcd (dense point cloud), occupancy.bt
 (OctoMap), trajectory.csv and registration.yaml (the sketch-to-world transforms), world frame.
 Exit status: 0 success, 3 finished without success (coverage < 95 % or collision), 2 bad input.
@@ -98,6 +100,10 @@ int main(int argc, char** argv) {
     const mission::MissionReport report =
         mission::makeReport(*mission, spec.world.describe(), spec.label());
     std::ofstream(out_dir + "/summary.json") << mission::toJson(report);
+    if (mission->prior()) {
+      std::ofstream registration_csv(out_dir + "/registration_log.csv");
+      mission::writeRegistrationLog(registration_csv, mission->log().registrations);
+    }
     char wall_line[64];
     std::snprintf(wall_line, sizeof(wall_line), "\nWall time: %.0f s\n", wall.elapsedSeconds());
     const std::string md =

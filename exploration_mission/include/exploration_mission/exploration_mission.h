@@ -34,6 +34,7 @@ struct HypothesisRecord {
   double time_s = 0.0;
   registration::RegistrationStatus status = registration::RegistrationStatus::kTooFewFrames;
   std::vector<registration::Hypothesis> hypotheses;  ///< best first
+  std::string message;                               ///< the registration's reason for status
 };
 
 struct TrajectoryRecord {
