@@ -135,6 +135,17 @@ int main(int argc, char** argv) {
           }
           std::printf("; nearest candidate %.1f sketch m from the truth", nearest);
         }
+        if (truth) {
+          // Whether the fitness test would pass the truth itself on this frame.
+          const registration::IcpResult e = registration.evaluateOnLastFrame(*truth);
+          if (e.usable) {
+            char reverse[16] = "-";
+            if (e.reverse_inlier_ratio)
+              std::snprintf(reverse, sizeof reverse, "%.2f", *e.reverse_inlier_ratio);
+            std::printf("; truth F %.2f m, forward %.2f, reverse %s, inside %.2f", e.fitness_m,
+                        e.forward_inlier_ratio, reverse, e.inside_ratio);
+          }
+        }
         std::printf("\n");
       }
     }

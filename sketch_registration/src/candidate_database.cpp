@@ -196,8 +196,8 @@ Candidate CandidateDatabase::score(size_t i, int l, const Invariants& inv,
   Candidate c = unscored(i, l);
   if (tables.n == 0) return c;
   cutAt(i, l, scratch);
-  const ShiftMatch m =
-      bestColumnShiftCoarseToFine(scratch, tables, try_reversed, config_.coarse_shift_keep);
+  const ShiftMatch m = bestColumnShiftCoarseToFine(
+      scratch, tables, try_reversed, config_.coarse_shift_keep, config_.mirror_score_margin);
   c.s_cos = m.score;
   c.s_fft = inv.s_fft;
   c.s_cv = inv.s_cv;

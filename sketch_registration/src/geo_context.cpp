@@ -22,6 +22,7 @@ void DescriptorConfig::validate() const {
   requireInRange("coarse_shift_factor", coarse_shift_factor, 1, num_bins);
   requireThat(num_bins % coarse_shift_factor == 0, "coarse_shift_factor", "must divide num_bins");
   requireInRange("coarse_shift_keep", coarse_shift_keep, 1, num_bins);
+  requireInRange("mirror_score_margin", mirror_score_margin, 0.0, 1.0);
 }
 
 HprConfig DescriptorConfig::hprConfig() const {
@@ -235,11 +236,20 @@ ShiftTables::ShiftTables(const GeoContext& observed, bool empty_is_unknown) {
   unseen_coarse_reversed = emptyPositions(coarse_reversed, empty_is_unknown);
 }
 
+namespace {
+/// The mirror-image match only where it beats the proper one by `mirror_margin`: a place
+/// symmetric about a line through the viewpoint matches both ways alike, and which one wins by
+/// a hair is noise; a drawing is rarely mirrored, and a mirrored one beats its proper match by far.
+ShiftMatch preferProper(const ShiftMatch& plain, const ShiftMatch& mirrored, double mirror_margin) {
+  return mirrored.score > plain.score + mirror_margin ? mirrored : plain;
+}
+}  // namespace
+
 ShiftMatch bestColumnShiftCoarseToFine(const GeoContext& prior, const ShiftTables& tables,
-                                       bool try_reversed, int keep) {
+                                       bool try_reversed, int keep, double mirror_margin) {
   const int n = tables.n, nc = tables.n_coarse;
   if (nc == 0 || static_cast<int>(prior.coarse_range_m.size()) != nc || n % nc != 0) {
-    return bestColumnShift(prior.range_m.data(), tables, try_reversed);
+    return bestColumnShift(prior.range_m.data(), tables, try_reversed, mirror_margin);
   }
   const int f = n / nc;
   const float sa = sumOf(prior.range_m.data(), n), sb = sumOf(tables.plain.data(), n);
@@ -265,10 +275,11 @@ ShiftMatch bestColumnShiftCoarseToFine(const GeoContext& prior, const ShiftTable
   keep = std::min<int>(keep, static_cast<int>(coarse.size()));
   std::partial_sort(coarse.begin(), coarse.begin() + keep, coarse.end(),
                     [](const auto& a, const auto& b) { return a.first > b.first; });
-  ShiftMatch best;
+  ShiftMatch best_plain, best_mirrored;
   for (int q = 0; q < keep; ++q) {
     const bool rev = coarse[static_cast<size_t>(q)].second >= nc;
     const int center = f * (coarse[static_cast<size_t>(q)].second % nc);
+    ShiftMatch& best = rev ? best_mirrored : best_plain;
     for (int d = -(f - 1); d <= f - 1; ++d) {
       const int shift = ((center + d) % n + n) % n;
       // Plain: window at `shift`; mirrored: shift n' is the window at -n'.
@@ -279,32 +290,36 @@ ShiftMatch bestColumnShiftCoarseToFine(const GeoContext& prior, const ShiftTable
       if (v > best.score) best = ShiftMatch{v, shift, rev, 0.0};
     }
   }
+  ShiftMatch best = preferProper(best_plain, best_mirrored, mirror_margin);
   best.yaw_rad = std::remainder(2.0 * M_PI * best.shift / n, 2.0 * M_PI);
   return best;
 }
 
-ShiftMatch bestColumnShift(const float* prior, const ShiftTables& tables, bool try_reversed) {
-  ShiftMatch best;
+ShiftMatch bestColumnShift(const float* prior, const ShiftTables& tables, bool try_reversed,
+                           double mirror_margin) {
+  ShiftMatch plain, mirrored;
   const int n = tables.n;
-  if (n == 0) return best;
+  if (n == 0) return plain;
   const float sa = sumOf(prior, n), sb = sumOf(tables.plain.data(), n);
   for (int s = 0; s < n; ++s) {
     const double v = windowScore(prior, sa, tables.plain, tables.unseen_plain, s, n, sb);
-    if (v > best.score) best = ShiftMatch{v, s, false, 0.0};
+    if (v > plain.score) plain = ShiftMatch{v, s, false, 0.0};
   }
   if (try_reversed) {
     for (int m = 0; m < n; ++m) {
       const double v = windowScore(prior, sa, tables.reversed, tables.unseen_reversed, m, n, sb);
-      if (v > best.score) best = ShiftMatch{v, (n - m) % n, true, 0.0};
+      if (v > mirrored.score) mirrored = ShiftMatch{v, (n - m) % n, true, 0.0};
     }
   }
+  ShiftMatch best = preferProper(plain, mirrored, mirror_margin);
   best.yaw_rad = std::remainder(2.0 * M_PI * best.shift / n, 2.0 * M_PI);
   return best;
 }
 
-ShiftMatch bestColumnShift(const GeoContext& prior, const GeoContext& observed, bool try_reversed) {
+ShiftMatch bestColumnShift(const GeoContext& prior, const GeoContext& observed, bool try_reversed,
+                           double mirror_margin) {
   if (prior.range_m.empty() || prior.range_m.size() != observed.range_m.size()) return {};
-  return bestColumnShift(prior.range_m.data(), ShiftTables(observed), try_reversed);
+  return bestColumnShift(prior.range_m.data(), ShiftTables(observed), try_reversed, mirror_margin);
 }
 
 double fftSimilarity(const std::vector<float>& prior, const std::vector<float>& observed) {

@@ -178,12 +178,19 @@ void SketchRegistration::reset() {
   live_.clear();
   dormant_.clear();
   rejected_.clear();
+  last_observation_.reset();
   result_ = RegistrationResult{};
   has_last_ = false;
 }
 
 HistoryFit SketchRegistration::historyFit(const Sim2& T) const {
   return icp_->historyFit(T, history_.beyond());
+}
+
+IcpResult SketchRegistration::evaluateOnLastFrame(const Sim2& T) const {
+  if (!last_observation_) return IcpResult{};
+  const ObservedIndex observed{&last_observation_->dense, last_observation_->robot_world_m};
+  return icp_->evaluate(T, last_observation_->icp_points, &observed);
 }
 
 bool SketchRegistration::historyInUse() const {
@@ -204,6 +211,7 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
   FrameDiagnostics diag;
   diag.time_s = time_s;
   result_.last_frame = diag;
+  last_observation_.reset();
   if (!std::isfinite(time_s) || !robot_world_m.allFinite()) {
     return fail(RegistrationStatus::kBadInput, "non-finite time or robot position; frame ignored");
   }
@@ -258,13 +266,15 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
   diag.representatives = verifier_.representatives().size();
   result_.frames_used = verifier_.numFrames();
 
-  const Points2d& icp_points = obs.icp_m;
-  diag.icp_points = icp_points.size();
-  PointKdTree2d::Points dense(obs.icp_dense_m.begin(), obs.icp_dense_m.end());
-  const PointKdTree2d dense_tree(std::move(dense));
-  const ObservedIndex observed{&dense_tree, robot_xy};
+  diag.icp_points = obs.icp_m.size();
+  last_observation_.emplace();
+  last_observation_->icp_points = obs.icp_m;
+  last_observation_->dense.reset(
+      PointKdTree2d::Points(obs.icp_dense_m.begin(), obs.icp_dense_m.end()));
+  last_observation_->robot_world_m = robot_xy;
+  const ObservedIndex observed{&last_observation_->dense, robot_xy};
   history_.update(robot_xy, obs.icp_dense_m, obs.passage_m, config_.observation.icp_range_m);
-  updateHypotheses(icp_points, observed, diag);
+  updateHypotheses(last_observation_->icp_points, observed, diag);
   result_.last_frame = diag;
   // No transform survived the fitness test: whatever tracks the verifier still follows are not
   // registrations, so the next frame seeds fresh triplets as well. In detect mode a surviving

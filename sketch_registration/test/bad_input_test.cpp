@@ -148,6 +148,9 @@ TEST(BadInput, ConfigValidationNamesTheKey) {
   c.screen_iterations = 0;
   expectKey(c, "screen_iterations");
   c = {};
+  c.descriptor.mirror_score_margin = -0.1;
+  expectKey(c, "mirror_score_margin");
+  c = {};
   c.mirror_dominance_coverage = 1.5;
   expectKey(c, "mirror_dominance_coverage");
   c = {};

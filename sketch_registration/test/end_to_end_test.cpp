@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <random>
 
@@ -100,6 +101,25 @@ TEST(EndToEnd, OfficeBestHypothesisWithinOneMetre) {
     total += h.confidence;
   }
   EXPECT_NEAR(total, 1.0, 1e-9);
+}
+
+// Tools ask how the fitness test would judge the truth on a frame (registration_replay --truth).
+TEST(EndToEnd, AnyTransformIsJudgedOnTheLastFramesObservation) {
+  const Sim2 truth(2.0, 1.3, Vector2d(15.0, -7.0));
+  const syn::Scenario sc = officeScenario(truth);
+  SketchRegistration reg(SketchRegistration::Config{}, sc.sketch_points_m, sc.candidates_m);
+  EXPECT_FALSE(reg.evaluateOnLastFrame(truth).usable);
+  const ScenarioRun run = runScenario(sc, reg, 6);
+  const IcpResult at_truth = reg.evaluateOnLastFrame(truth);
+  ASSERT_TRUE(at_truth.usable);
+  EXPECT_TRUE(at_truth.valid);
+  EXPECT_LT(at_truth.fitness_m, 0.2);
+  Sim2 shifted = truth;
+  shifted.t_m += Vector2d(3.0, 2.0);
+  EXPECT_GT(reg.evaluateOnLastFrame(shifted).fitness_m, at_truth.fitness_m + 0.5);
+  // An ignored frame leaves nothing to judge on, rather than the frame before it.
+  reg.addFrame(1e6, Eigen::Vector3d::Constant(std::nan("")), {});
+  EXPECT_FALSE(reg.evaluateOnLastFrame(truth).usable);
 }
 
 // A new transform is reported only on its second consecutive fitting frame: the frame before

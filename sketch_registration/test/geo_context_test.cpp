@@ -95,8 +95,19 @@ TEST(GeoContext, MirroredSceneMatchesReversed) {
   const ShiftMatch fast = bestColumnShiftCoarseToFine(d0, ShiftTables(d1), true, 3);
   EXPECT_TRUE(fast.reversed);
   EXPECT_EQ(fast.shift, 20);
-  // Without the mirrored search the score is clearly lower.
+  // Without the mirrored search the score is lower.
   EXPECT_LT(bestColumnShift(d0, d1, false).score, m.score);
+  // Seen from here the office is nearly symmetric: the proper match scores 0.9905, the mirror
+  // image 1.0. A margin below that lead keeps the mirror image, one above it the proper match.
+  const ShiftMatch plain = bestColumnShift(d0, d1, false);
+  for (const auto& [margin, reversed] : {std::pair{0.005, true}, std::pair{0.02, false}}) {
+    for (const ShiftMatch& r :
+         {bestColumnShift(d0, d1, true, margin),
+          bestColumnShiftCoarseToFine(d0, ShiftTables(d1), true, 3, margin)}) {
+      EXPECT_EQ(r.reversed, reversed) << margin;
+      EXPECT_EQ(r.score, reversed ? m.score : plain.score) << margin;
+    }
+  }
 }
 
 TEST(GeoContext, SimilaritiesInUnitIntervalAndOneForIdentical) {

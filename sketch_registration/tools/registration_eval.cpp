@@ -46,7 +46,8 @@
 // --slack-min-reverse-ratio, --kept-min-inside-ratio, --screen-points,
 // --inlier-distance-m, --slice-min-dz-m, --slice-max-dz-m, --wall-columns 0|1, --column-cell-m,
 // --wall-min-height-m, --wall-max-gap-m, --icp-range-m, --max-range-m, --unknown-empty-bins 0|1,
-// --clip-to-range 0|1, --scale-levels, --coarse-shift-keep, --sketch-point-radius-m,
+// --clip-to-range 0|1, --scale-levels, --coarse-shift-keep, --mirror-score-margin,
+// --sketch-point-radius-m,
 // --settled-coverage,
 // --coverage-weight-m, --history 0|1.
 #include <Eigen/Geometry>
@@ -971,6 +972,7 @@ Options parse(int argc, char** argv) {
                         "clip-to-range",
                         "scale-levels",
                         "coarse-shift-keep",
+                        "mirror-score-margin",
                         "sketch-point-radius-m",
                         "settled-coverage",
                         "coverage-weight-m",
@@ -1059,6 +1061,8 @@ Options parse(int argc, char** argv) {
       static_cast<int>(args.integer("scale-levels", o.registration.scale_levels));
   o.registration.descriptor.coarse_shift_keep = static_cast<int>(
       args.integer("coarse-shift-keep", o.registration.descriptor.coarse_shift_keep));
+  o.registration.descriptor.mirror_score_margin =
+      args.number("mirror-score-margin", o.registration.descriptor.mirror_score_margin);
   o.registration.sketch_point_radius_m =
       args.number("sketch-point-radius-m", o.registration.sketch_point_radius_m);
   o.registration.settled_coverage =

@@ -32,6 +32,12 @@ struct DescriptorConfig {
   /// exhaustive. Must divide num_bins.
   int coarse_shift_factor = 3;
   int coarse_shift_keep = 3;
+  /// With mirror-image matching, a candidate takes its mirror-image match only where that beats
+  /// its proper one by this much (S_cos). A place symmetric about a line through the viewpoint (a
+  /// garage aisle) matches both ways alike; left to the larger score, half its candidates came out
+  /// mirrored, and a 160 s paper-garage flight found only mirror-image fits (status
+  /// mirrored_sketch for a precise drawing).
+  double mirror_score_margin = 0.02;
   /// Length of coarse_range_m (0: no coarse stage).
   int numCoarseBins() const { return coarse_shift_factor > 1 ? num_bins / coarse_shift_factor : 0; }
   /// An empty bin of the observed descriptor means "nothing seen there within range", not "no
@@ -105,7 +111,8 @@ struct ShiftMatch {
 /// mirror image). For the plain case prior_i = observed_{i+n} and the sketch-to-world yaw is
 /// n * 2pi / N_b; for the mirrored case prior_i = observed_{n-i} and the yaw (after the
 /// reflection diag(1,-1)) is also n * 2pi / N_b.
-ShiftMatch bestColumnShift(const GeoContext& prior, const GeoContext& observed, bool try_reversed);
+ShiftMatch bestColumnShift(const GeoContext& prior, const GeoContext& observed, bool try_reversed,
+                           double mirror_margin = 0.0);
 
 /// The observation descriptor laid out twice (plain and mirrored) so that every column shift is
 /// a contiguous window: prepared once per frame, used for every candidate.
@@ -120,12 +127,12 @@ struct ShiftTables {
   std::vector<int> unseen_plain, unseen_reversed, unseen_coarse_plain, unseen_coarse_reversed;
 };
 /// Exhaustive over all N_b shifts (and mirrored shifts).
-ShiftMatch bestColumnShift(const float* prior_range_m, const ShiftTables& tables,
-                           bool try_reversed);
+ShiftMatch bestColumnShift(const float* prior_range_m, const ShiftTables& tables, bool try_reversed,
+                           double mirror_margin = 0.0);
 /// Coarse-to-fine (see DescriptorConfig::coarse_shift_factor); exhaustive when the prior has no
 /// coarse descriptor.
 ShiftMatch bestColumnShiftCoarseToFine(const GeoContext& prior, const ShiftTables& tables,
-                                       bool try_reversed, int keep);
+                                       bool try_reversed, int keep, double mirror_margin = 0.0);
 
 double fftSimilarity(const GeoContext& prior, const GeoContext& observed);
 /// The same from the two descriptors' fft_magnitude.

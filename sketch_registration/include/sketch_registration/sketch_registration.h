@@ -11,6 +11,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -200,6 +201,10 @@ class SketchRegistration {
   /// How the remembered walls (beyond the last frame's observation) lie on the sketch mapped by
   /// `T_world_sketch` (what the hypotheses carry; diagnostics for any transform).
   HistoryFit historyFit(const Sim2& T_world_sketch) const;
+  /// What the fitness test makes of `T_world_sketch` on the last frame's observation, as a new
+  /// transform there would be judged before refinement (diagnostics against a known truth).
+  /// Not usable (IcpResult::usable false) when the last frame was ignored (bad input).
+  IcpResult evaluateOnLastFrame(const Sim2& T_world_sketch) const;
   /// Forgets all frames and hypotheses (keeps Phase 1).
   void reset();
 
@@ -220,6 +225,14 @@ class SketchRegistration {
   std::unique_ptr<ScaleIcp> icp_;
   std::unique_ptr<ScaleIcp> screen_icp_;  ///< the short refinement of screen_points
   ObservationHistory history_;
+  /// The last frame's observation as Scale-ICP reads it (evaluateOnLastFrame); empty when that
+  /// frame was ignored.
+  struct LastObservation {
+    Points2d icp_points;
+    PointKdTree2d dense;
+    Eigen::Vector2d robot_world_m = Eigen::Vector2d::Zero();
+  };
+  std::optional<LastObservation> last_observation_;
   RegistrationResult result_;
   std::vector<Hypothesis> live_;  ///< all refined hypotheses (both handednesses)
   struct Dormant {

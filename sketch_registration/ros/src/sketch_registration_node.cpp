@@ -73,6 +73,7 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   p.get("mirror_dominance_coverage", r.mirror_dominance_coverage);
   p.get("empty_observed_bins_unknown", r.descriptor.empty_observed_bins_unknown);
   p.get("clip_to_range", r.descriptor.clip_to_range);
+  p.get("mirror_score_margin", r.descriptor.mirror_score_margin);
   p.get("sketch_point_radius_m", r.sketch_point_radius_m);
   p.get("scale_levels", r.scale_levels);
   p.get("wall_columns", r.observation.wall_columns);
