@@ -66,10 +66,15 @@ NearestPointGrid2d::NearestPointGrid2d(Points points, const Eigen::Vector2d& box
         if (d2 <= r2) list_.push_back(static_cast<uint32_t>(index));
       }
       begin_[cell_index + 1] = static_cast<uint32_t>(list_.size());
-      ++listed_cells_;
     }
   }
   list_.shrink_to_fit();
+}
+
+size_t NearestPointGrid2d::numListedCells() const {
+  size_t n = 0;
+  for (size_t c = 0; c + 1 < begin_.size(); ++c) n += begin_[c + 1] > begin_[c];
+  return n;
 }
 
 }  // namespace efs

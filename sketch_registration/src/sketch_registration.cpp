@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 #include "efs_common/config_check.h"
 
@@ -245,8 +246,8 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
   last_robot_m_ = robot_xy;
 
   // One observation for both consumers (observation.h).
-  const Observation obs = observe(local_map_world_m, robot_world_m, config_.observation,
-                                  config_.descriptor.max_range_m);
+  Observation obs = observe(local_map_world_m, robot_world_m, config_.observation,
+                            config_.descriptor.max_range_m);
   diag.descriptor_points = obs.descriptor_m.size();
   const DescriptorConfig odc = observationDescriptorConfig(config_);
   diag.descriptor = computeObservedGeoContext(
@@ -268,7 +269,7 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
 
   diag.icp_points = obs.icp_m.size();
   last_observation_.emplace();
-  last_observation_->icp_points = obs.icp_m;
+  last_observation_->icp_points = std::move(obs.icp_m);
   last_observation_->dense.reset(
       PointKdTree2d::Points(obs.icp_dense_m.begin(), obs.icp_dense_m.end()));
   last_observation_->robot_world_m = robot_xy;

@@ -884,12 +884,7 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
     }
     if (truth_icp) {
       // What the fitness test says about the true transform on this frame's observation.
-      const reg::Observation obs =
-          reg::observe(cloud, p, config.observation, config.descriptor.max_range_m);
-      const efs::PointKdTree2d dense(
-          efs::PointKdTree2d::Points(obs.icp_dense_m.begin(), obs.icp_dense_m.end()));
-      const reg::ObservedIndex index{&dense, p.head<2>()};
-      const reg::IcpResult e = truth_icp->evaluate(*diag_truth, obs.icp_m, &index);
+      const reg::IcpResult e = registration.evaluateOnLastFrame(*diag_truth);
       if (e.num_points > 0) {
         tr.truth_fitness_m.push_back(e.fitness_m);
         tr.truth_inliers.push_back(e.inlierRatio());
@@ -906,7 +901,11 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
             e.fitness_m, e.forward_fitness_m, e.reverse_fitness_m, e.inlierRatio(),
             e.forward_inlier_ratio, e.reverse_inlier_ratio.value_or(std::nan("")), e.coverage,
             e.num_points, e.inside_ratio, e.valid, hf.inside, hf.points, hf.inlierRatio());
-        diagnostics->frame(p.head<2>(), r, registration, obs, index);
+        const reg::Observation obs =
+            reg::observe(cloud, p, config.observation, config.descriptor.max_range_m);
+        const efs::PointKdTree2d dense(
+            efs::PointKdTree2d::Points(obs.icp_dense_m.begin(), obs.icp_dense_m.end()));
+        diagnostics->frame(p.head<2>(), r, registration, obs, {&dense, p.head<2>()});
       }
     }
     if (opt.single_frame && diag_truth && r.last_frame.descriptor.valid) {

@@ -65,11 +65,7 @@ class NearestPointGrid2d {
   double cellSize() const { return cell_m_; }
   size_t numCells() const { return begin_.empty() ? 0 : begin_.size() - 1; }
   /// Cells answered from their list (the others go to the k-d tree).
-  size_t numListedCells() const { return listed_cells_; }
-  /// Bytes held by the grid (not the tree).
-  size_t gridBytes() const {
-    return begin_.capacity() * sizeof(uint32_t) + list_.capacity() * sizeof(uint32_t);
-  }
+  size_t numListedCells() const;
 
  private:
   PointKdTree2d tree_;
@@ -78,7 +74,6 @@ class NearestPointGrid2d {
   double nx_ = 0.0, ny_ = 0.0;   ///< cell counts, as doubles for the range test
   std::vector<uint32_t> begin_;  ///< list of cell c: list_[begin_[c] .. begin_[c + 1])
   std::vector<uint32_t> list_;
-  size_t listed_cells_ = 0;
 };
 
 }  // namespace efs
