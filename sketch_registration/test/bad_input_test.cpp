@@ -169,6 +169,12 @@ TEST(BadInput, ConfigValidationNamesTheKey) {
   c.observation.wall_min_height_m = std::numeric_limits<double>::quiet_NaN();
   expectKey(c, "wall_min_height_m");
   c = {};
+  c.observation.wall_continuation_m = 0.05;  // inside the continuation's own lower bound
+  expectKey(c, "wall_continuation_m");
+  c = {};
+  c.observation.wall_top_clear_m = std::numeric_limits<double>::infinity();
+  expectKey(c, "wall_top_clear_m");
+  c = {};
   c.kept_fitness_threshold_m = 0.5 * c.fitness_threshold_m;
   expectKey(c, "kept_fitness_threshold_m");
   c = {};

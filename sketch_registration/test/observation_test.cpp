@@ -53,15 +53,26 @@ Points3d buildingScene() {
 }
 
 /// A tunnel along x with an elliptical cross-section (half-width 2.5 m, half-height 2 m) centred
-/// 3 m up: a robot at 1.5 m sees the walls bulge out above it to |y| = 2.5.
-Points3d caveScene() {
+/// `centre_z_m` up (3 m: a robot at 1.5 m sees the walls bulge out above it to |y| = 2.5).
+Points3d caveScene(double centre_z_m = 3.0) {
   Points3d pts;
   for (double x = -8; x <= 8 + 1e-9; x += kStep) {
     for (double t = 0; t < 2 * M_PI; t += 0.04) {
-      pts.emplace_back(x, 2.5 * std::cos(t), 3.0 + 2.0 * std::sin(t));
+      pts.emplace_back(x, 2.5 * std::cos(t), centre_z_m + 2.0 * std::sin(t));
     }
   }
   return pts;
+}
+
+/// The cave's wall points all lie on its outline (|y| = 2.5), along both walls' whole length.
+void expectCaveOutline(const ProjectedMap& m) {
+  int north = 0, south = 0;
+  for (const Vector2d& p : m.points_m) {
+    EXPECT_GT(std::abs(p.y()), 2.5 - 0.35) << p.transpose();
+    (p.y() > 0 ? north : south) += 1;
+  }
+  EXPECT_GE(north, 55);
+  EXPECT_GE(south, 55);
 }
 
 const Vector3d kRobot(0.3, 0.1, 1.5);
@@ -116,14 +127,7 @@ TEST(Observation, EveryColumnIsWallPassageOrOther) {
 
 TEST(Observation, CaveKeepsTheOutlineAtTheWidestExtent) {
   const ObservationConfig config;
-  const ProjectedMap m = observeLocalMap(caveScene(), kRobot, config, 30.0);
-  int north = 0, south = 0;
-  for (const Vector2d& p : m.points_m) {
-    EXPECT_GT(std::abs(p.y()), 2.5 - 0.35) << p.transpose();
-    (p.y() > 0 ? north : south) += 1;
-  }
-  EXPECT_GE(north, 55);
-  EXPECT_GE(south, 55);
+  expectCaveOutline(observeLocalMap(caveScene(), kRobot, config, 30.0));
 
   // Contrast: the old +-1 m slice around the robot sees the walls well inside the outline.
   ObservationConfig slice = config;
@@ -135,6 +139,82 @@ TEST(Observation, CaveKeepsTheOutlineAtTheWidestExtent) {
   double min_abs_y = 1e9;
   for (const Vector2d& p : cut.points_m) min_abs_y = std::min(min_abs_y, std::abs(p.y()));
   EXPECT_LT(min_abs_y, 2.0);
+}
+
+/// A box 2 x 4.5 m and 1.5 m tall (a parked car) on a floor, seen without any ceiling above it,
+/// and a wall 3 m tall at x = 6.
+Points3d carWithoutCeilingScene() {
+  Points3d pts;
+  for (double x = -4; x <= 6 + 1e-9; x += kStep) {
+    for (double y = -4; y <= 4 + 1e-9; y += kStep) {
+      const bool under_car = x >= 1 && x <= 3 && y >= -2.25 && y <= 2.25;
+      if (!under_car) pts.emplace_back(x, y, 0.0);
+    }
+  }
+  for (double y = -4; y <= 4 + 1e-9; y += kStep) {
+    for (double z = 0; z <= 3 + 1e-9; z += kStep) pts.emplace_back(6.0, y, z);
+  }
+  for (double x = 1; x <= 3 + 1e-9; x += kStep) {
+    for (double y = -2.25; y <= 2.25 + 1e-9; y += kStep) pts.emplace_back(x, y, 1.5);
+    for (double z = 0; z <= 1.5 + 1e-9; z += kStep) {
+      pts.emplace_back(x, -2.25, z);
+      pts.emplace_back(x, 2.25, z);
+    }
+  }
+  for (double y = -2.25; y <= 2.25 + 1e-9; y += kStep) {
+    for (double z = 0; z <= 1.5 + 1e-9; z += kStep) {
+      pts.emplace_back(1.0, y, z);
+      pts.emplace_back(3.0, y, z);
+    }
+  }
+  return pts;
+}
+
+TEST(Observation, CarSeenWithoutTheCeilingIsALowObstacleNotWall) {
+  // The car's sides are runs from the floor to the roof, taller than wall_min_height_m; their
+  // tops are level with the robot and nothing continues them upward.
+  const Vector3d robot(-2.0, 0.0, 1.5);
+  const auto onCar = [](const Vector2d& p) {
+    return p.x() > 0.9 && p.x() < 3.1 && std::abs(p.y()) < 2.4;
+  };
+  const ProjectedMap m =
+      observeLocalMap(carWithoutCeilingScene(), robot, ObservationConfig{}, 30.0);
+  EXPECT_FALSE(std::any_of(m.points_m.begin(), m.points_m.end(), onCar));
+  EXPECT_GT(m.num_low_obstacle_columns, 30u);
+  EXPECT_TRUE(std::any_of(m.other_m.begin(), m.other_m.end(), onCar));
+  // The wall stays, along its whole length.
+  EXPECT_GE(std::count_if(m.points_m.begin(), m.points_m.end(),
+                          [](const Vector2d& p) { return std::abs(p.x() - 6.0) < 0.2; }),
+            30);
+
+  // A robot flying low sees the car's top 0.3 m or more above it: the car is wall again (the
+  // test only questions runs that end near or below the robot).
+  const ProjectedMap low = observeLocalMap(carWithoutCeilingScene(), Vector3d(-2.0, 0.0, 1.1),
+                                           ObservationConfig{}, 30.0);
+  EXPECT_TRUE(std::any_of(low.points_m.begin(), low.points_m.end(), onCar));
+
+  // Without the low-obstacle test the car's sides are wall.
+  ObservationConfig no_test;
+  no_test.wall_continuation_m = 0.0;
+  const ProjectedMap all = observeLocalMap(carWithoutCeilingScene(), robot, no_test, 30.0);
+  EXPECT_TRUE(std::any_of(all.points_m.begin(), all.points_m.end(), onCar));
+  EXPECT_EQ(all.num_low_obstacle_columns, 0u);
+}
+
+TEST(Observation, CaveWallBulgingBelowTheRobotContinuesUpward) {
+  // A tunnel whose widest extent (|y| = 2.5 at z = 1) lies 1 m below the robot: the outermost
+  // columns' runs end below the robot, and the wall carries on upward in the columns inside.
+  const Points3d pts = caveScene(1.0);
+  const ProjectedMap m = observeLocalMap(pts, Vector3d(0.3, 0.1, 2.0), ObservationConfig{}, 30.0);
+  expectCaveOutline(m);
+  EXPECT_EQ(m.num_low_obstacle_columns, 0u);
+
+  // Contrast: looking for the continuation only just above the top misses it, and the outline's
+  // columns below the robot are taken for low obstacles.
+  ObservationConfig narrow;
+  narrow.wall_continuation_m = kContinuationMinDz + 0.01;
+  const ProjectedMap cut = observeLocalMap(pts, Vector3d(0.3, 0.1, 2.0), narrow, 30.0);
+  EXPECT_GT(cut.num_low_obstacle_columns, 60u);
 }
 
 TEST(Observation, BandAndRangeLimitTheColumns) {

@@ -45,7 +45,8 @@
 // --kept-fitness-threshold-m, --kept-min-inlier-ratio, --forward-inlier-slack,
 // --slack-min-reverse-ratio, --kept-min-inside-ratio, --screen-points,
 // --inlier-distance-m, --slice-min-dz-m, --slice-max-dz-m, --wall-columns 0|1, --column-cell-m,
-// --wall-min-height-m, --wall-max-gap-m, --icp-range-m, --max-range-m, --unknown-empty-bins 0|1,
+// --wall-min-height-m, --wall-max-gap-m, --wall-top-clear-m, --wall-continuation-m, --icp-range-m,
+// --max-range-m, --unknown-empty-bins 0|1,
 // --clip-to-range 0|1, --scale-levels, --coarse-shift-keep, --mirror-score-margin,
 // --sketch-point-radius-m,
 // --settled-coverage,
@@ -965,6 +966,8 @@ Options parse(int argc, char** argv) {
                         "column-cell-m",
                         "wall-min-height-m",
                         "wall-max-gap-m",
+                        "wall-top-clear-m",
+                        "wall-continuation-m",
                         "icp-range-m",
                         "max-range-m",
                         "unknown-empty-bins",
@@ -1047,6 +1050,10 @@ Options parse(int argc, char** argv) {
       args.number("wall-min-height-m", o.registration.observation.wall_min_height_m);
   o.registration.observation.wall_max_gap_m =
       args.number("wall-max-gap-m", o.registration.observation.wall_max_gap_m);
+  o.registration.observation.wall_top_clear_m =
+      args.number("wall-top-clear-m", o.registration.observation.wall_top_clear_m);
+  o.registration.observation.wall_continuation_m =
+      args.number("wall-continuation-m", o.registration.observation.wall_continuation_m);
   o.registration.observation.icp_range_m =
       args.number("icp-range-m", o.registration.observation.icp_range_m);
   o.registration.descriptor.max_range_m =

@@ -10,11 +10,21 @@
 // columns of `column_cell_m`. Within a column, a vertical gap larger than `wall_max_gap_m` is free
 // space between a lower and an upper surface (floor and ceiling, car roof and ceiling, floor and
 // lintel): the column is passage. A column whose points form one vertical run (no such gap) at
-// least `wall_min_height_m` tall is wall; shorter runs (a patch of floor or ceiling, a car side
-// seen without the ceiling above it) are neither. In a cave the outermost column of a bulging
+// least `wall_min_height_m` tall is wall (unless it is a low obstacle, below); shorter runs (a
+// patch of floor or ceiling) are neither. In a cave the outermost column of a bulging
 // wall holds the tangent part of the wall, a tall run, while the columns inside it see the wall's
 // lower and upper slopes with free space between them: the outline a person draws. Doors are gaps
 // (floor + lintel); car columns have space above the roof and are passage.
+//
+// Low obstacles: a car side seen from afar, with no ceiling return in its own column, is one run
+// from the floor to the roof, as tall as a wall. What tells it from a wall is its top: seen about
+// level with the robot (well inside the LiDAR's vertical field of view), with nothing above it in
+// that column or beside it. A wall either rises above the robot (a building's walls reach the
+// ceiling) or, where its column's run ends lower (the outermost column of a cave wall that curves
+// over), continues upward in a neighbouring column. A run that does neither is a low obstacle the
+// drawing leaves out (parked cars, crates) and is not wall. A wall the LiDAR saw only up to its
+// column's top cannot end below `wall_top_clear_m` above the robot unless it is closer than
+// wall_top_clear_m / tan(52 deg) ~ 0.25 m (the Mid-360's upper field of view).
 //
 // One code path: the descriptor and Scale-ICP both use observeLocalMap's points (ICP a coarser
 // grid of them over a wider range).
@@ -34,9 +44,15 @@ struct ObservationConfig {
   double column_cell_m = 0.25;     ///< column grid (and the descriptor's input grid)
   double wall_min_height_m = 1.2;  ///< a wall column's points span at least this vertically
   double wall_max_gap_m = 1.2;     ///< a larger vertical gap in a column = free space (passage)
-  double icp_voxel_m = 0.3;        ///< grid for the Scale-ICP input
-  double icp_range_m = 40.0;       ///< horizontal radius kept for Scale-ICP
-  int icp_max_points = 800;        ///< evenly thinned above this
+  /// A wall run whose top reaches this far above the robot is wall without further test.
+  double wall_top_clear_m = 0.3;
+  /// A lower run is wall only if one of its 8 neighbouring columns holds a point between
+  /// kContinuationMinDz and this far above its top (the surface continues upward); otherwise it
+  /// is a low obstacle. 0: every run tall enough is wall (no low-obstacle test).
+  double wall_continuation_m = 0.6;
+  double icp_voxel_m = 0.3;   ///< grid for the Scale-ICP input
+  double icp_range_m = 40.0;  ///< horizontal radius kept for Scale-ICP
+  int icp_max_points = 800;   ///< evenly thinned above this
   void validate() const;
 };
 
@@ -52,7 +68,14 @@ struct ProjectedMap {
   size_t num_in_band = 0;
   size_t num_columns = 0;  ///< occupied columns in the band within range
   size_t num_passage_columns = 0;
+  /// Runs tall enough for a wall, rejected as low obstacles (counted into other_m).
+  size_t num_low_obstacle_columns = 0;
 };
+
+/// A neighbour's point must lie this far above a run's top to continue it: above the ranging
+/// noise (2 cm) at a flat top such as a car roof, below the rise of any surface steeper than
+/// ~20 deg over one column.
+constexpr double kContinuationMinDz = 0.1;
 
 /// The observation: the columns (see the file comment) of finite points with z in the band and
 /// horizontal distance <= range_m to the robot, one point per kept column, in a deterministic

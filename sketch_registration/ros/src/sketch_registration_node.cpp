@@ -82,6 +82,8 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   p.get("column_cell_m", r.observation.column_cell_m);
   p.get("wall_min_height_m", r.observation.wall_min_height_m);
   p.get("wall_max_gap_m", r.observation.wall_max_gap_m);
+  p.get("wall_top_clear_m", r.observation.wall_top_clear_m);
+  p.get("wall_continuation_m", r.observation.wall_continuation_m);
   p.get("max_speed_mps", r.max_speed_mps);
   p.get("max_hypotheses", r.max_hypotheses);
   p.get("history_enabled", r.history.enabled);
