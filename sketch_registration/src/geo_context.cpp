@@ -57,6 +57,7 @@ void computeFeatures(GeoContext& d, const DescriptorConfig& config) {
   const double mean = n > 0 ? sum / n : 0.0;
   const double var = n > 0 ? std::max(0.0, sum2 / n - mean * mean) : 0.0;
   d.cv = mean > 0.0 ? std::sqrt(var) / mean : 0.0;
+  d.described_bins = nonzero;
   d.valid = nonzero >= config.min_valid_bins && mean > 0.0;
   d.coarse_range_m.clear();
   const int f = config.coarse_shift_factor;

@@ -255,9 +255,20 @@ const RegistrationResult& SketchRegistration::addFrame(double time_s,
   result_.last_frame = diag;
   if (!diag.descriptor.valid) {
     std::ostringstream os;
-    os << "local map unusable: " << obs.map.num_input << " points, " << obs.map.num_non_finite
-       << " non-finite, " << obs.map.num_in_band << " in the height band within range, "
-       << obs.descriptor_m.size() << " observation points in the descriptor range; frame ignored";
+    if (obs.map.num_in_band == 0) {
+      os << "local map unusable: " << obs.map.num_input << " points, " << obs.map.num_non_finite
+         << " non-finite, none in the height band within range; frame ignored";
+    } else {
+      // A sound map whose view holds too little wall: in an aisle lined with parked cars, only
+      // the far ends. Said so, not blamed on the map.
+      os << "too few walls in view for a descriptor: the view ends within "
+         << config_.descriptor.max_range_m << " m in only " << diag.descriptor.described_bins
+         << " of " << diag.descriptor.range_m.size() << " bearings ("
+         << config_.descriptor.min_valid_bins << " needed), " << obs.descriptor_m.size()
+         << " wall points in that range; " << obs.map.num_in_band
+         << " local-map points in the height band, " << obs.map.num_low_obstacle_columns
+         << " columns of low obstacles (cars) not counted as walls; frame ignored";
+    }
     return fail(RegistrationStatus::kBadInput, os.str());
   }
 

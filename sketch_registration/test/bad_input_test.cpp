@@ -50,6 +50,28 @@ TEST(BadInput, EmptyMap) {
   EXPECT_TRUE(r.hypotheses.empty());
 }
 
+TEST(BadInput, ViewWithTooFewWallsIsSaidSoNotCalledAnUnusableMap) {
+  // Floor and ceiling all round and a single 1 m wall 10 m off (an aisle whose sides are parked
+  // cars): a sound map with walls in too few bearings for a descriptor.
+  Points3d map;
+  // The floor and ceiling run past the descriptor's range: the view ends nowhere but at the wall.
+  for (double x = -45; x <= 45; x += 0.5) {
+    for (double y = -45; y <= 45; y += 0.5) {
+      map.emplace_back(10 + x, 18 + y, 0.0);
+      map.emplace_back(10 + x, 18 + y, 3.0);
+    }
+  }
+  for (double y = -0.5; y <= 0.5; y += 0.1) {
+    for (double z = 0; z <= 3.0; z += 0.1) map.emplace_back(20.0, 18 + y, z);
+  }
+  SketchRegistration reg(SketchRegistration::Config{}, office().sketch, office().candidates);
+  const auto& r = reg.addFrame(0.0, {10, 18, 1.5}, map);
+  EXPECT_EQ(r.status, RegistrationStatus::kBadInput);
+  EXPECT_NE(r.message.find("too few walls in view"), std::string::npos) << r.message;
+  EXPECT_EQ(r.message.find("unusable"), std::string::npos) << r.message;
+  EXPECT_TRUE(r.hypotheses.empty());
+}
+
 TEST(BadInput, NanLadenMap) {
   SketchRegistration reg(SketchRegistration::Config{}, office().sketch, office().candidates);
   const double nan = std::numeric_limits<double>::quiet_NaN();

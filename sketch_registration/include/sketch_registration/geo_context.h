@@ -71,7 +71,8 @@ struct GeoContext {
   std::vector<float> fft_magnitude;   ///< N_c magnitudes |DFT_k|, k = 0..N_c-1
   std::vector<float> coarse_range_m;  ///< max-pooled by coarse_shift_factor (bins centred alike)
   double cv = 0.0;                    ///< coefficient of variation sigma / mu
-  bool valid = false;                 ///< enough non-empty bins to be compared
+  int described_bins = 0;  ///< bins whose view ends inside the range limit (`valid` counts them)
+  bool valid = false;      ///< enough non-empty bins to be compared
 };
 
 /// Descriptor of a point set seen from `viewpoint_m` (HPR is part of it).
