@@ -30,5 +30,17 @@ TEST(VoxelKey, HashSeparatesNeighbours) {
   EXPECT_EQ(keys.size(), 11u * 11u * 11u);
 }
 
+TEST(CellKey2d, DistinctForEveryCellAcrossTheAxesSignsAndPacksEachIndex) {
+  std::unordered_set<long long> keys;
+  const long long big = 2147483647LL;  // the largest index the 32-bit halves hold
+  for (long long x : {-big - 1, -2LL, -1LL, 0LL, 1LL, big})
+    for (long long y : {-big - 1, -2LL, -1LL, 0LL, 1LL, big}) keys.insert(cellKey2d(x, y));
+  EXPECT_EQ(keys.size(), 36u);
+  // x in the high half, y's low 32 bits in the low half.
+  EXPECT_EQ(cellKey2d(1, 2), (1LL << 32) + 2);
+  EXPECT_EQ(cellKey2d(0, -1), 0xffffffffLL);
+  EXPECT_EQ(cellKey2d(-1, 0), static_cast<long long>(0xffffffff00000000ULL));
+}
+
 }  // namespace
 }  // namespace efs

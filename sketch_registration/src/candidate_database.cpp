@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "efs_common/config_check.h"
+#include "efs_common/voxel_key.h"
 
 namespace efs::registration {
 
@@ -325,7 +326,6 @@ std::vector<Candidate> CandidateDatabase::findCandidates(const GeoContext& obser
   const double r2 = r * r;
   // Greedy non-maximum suppression on a hash grid of cell r.
   std::unordered_map<long long, std::vector<int>> cells;
-  auto key = [&](long long ix, long long iy) { return (ix << 32) ^ (iy & 0xffffffffLL); };
   for (const Candidate& c : raw) {
     if (static_cast<int>(out.size()) >= config.max_candidates_per_frame) break;
     if (r > 0.0) {
@@ -334,7 +334,7 @@ std::vector<Candidate> CandidateDatabase::findCandidates(const GeoContext& obser
       bool suppressed = false;
       for (long long dy = -1; dy <= 1 && !suppressed; ++dy) {
         for (long long dx = -1; dx <= 1 && !suppressed; ++dx) {
-          auto it = cells.find(key(ix + dx, iy + dy));
+          auto it = cells.find(cellKey2d(ix + dx, iy + dy));
           if (it == cells.end()) continue;
           for (int o : it->second) {
             if ((out[static_cast<size_t>(o)].c_sketch - c.c_sketch).squaredNorm() < r2) {
@@ -345,7 +345,7 @@ std::vector<Candidate> CandidateDatabase::findCandidates(const GeoContext& obser
         }
       }
       if (suppressed) continue;
-      cells[key(ix, iy)].push_back(static_cast<int>(out.size()));
+      cells[cellKey2d(ix, iy)].push_back(static_cast<int>(out.size()));
     }
     out.push_back(c);
   }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "efs_common/config_check.h"
+#include "efs_common/voxel_key.h"
 
 namespace efs::registration {
 
@@ -30,8 +31,6 @@ void ObservationConfig::validate() const {
 }
 
 namespace {
-
-long long cellKey(long long ix, long long iy) { return (ix << 32) ^ (iy & 0xffffffffLL); }
 
 struct CellIndex {
   long long ix, iy;
@@ -68,7 +67,7 @@ class ColumnGrid {
       ++counts.num_in_band;
       const CellIndex cell = cellIndex(d, config.column_cell_m);
       const auto [it, added] =
-          index_.emplace(cellKey(cell.ix, cell.iy), static_cast<uint32_t>(sum_m_.size()));
+          index_.emplace(cellKey2d(cell.ix, cell.iy), static_cast<uint32_t>(sum_m_.size()));
       if (added) {
         sum_m_.emplace_back(Eigen::Vector2d::Zero());
         cells_.push_back(cell);
@@ -105,7 +104,7 @@ class ColumnGrid {
     for (long long dx = -1; dx <= 1; ++dx) {
       for (long long dy = -1; dy <= 1; ++dy) {
         if (dx == 0 && dy == 0) continue;
-        const auto it = index_.find(cellKey(cell.ix + dx, cell.iy + dy));
+        const auto it = index_.find(cellKey2d(cell.ix + dx, cell.iy + dy));
         if (it == index_.end()) continue;
         const float* end = heightsEnd(it->second);
         const float* above = std::upper_bound(heightsBegin(it->second), end, float(z_lo));
@@ -140,7 +139,7 @@ ColumnKind classifyOwnHeights(const float* lo, const float* hi, const Observatio
 
 long long gridCellKey(const Eigen::Vector2d& d, double cell_m) {
   const CellIndex c = cellIndex(d, cell_m);
-  return cellKey(c.ix, c.iy);
+  return cellKey2d(c.ix, c.iy);
 }
 
 ProjectedMap observeLocalMap(const Points3d& local_map, const Eigen::Vector3d& robot,

@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "efs_common/config_check.h"
+#include "efs_common/voxel_key.h"
 #include "sketch_registration/candidate_database.h"
 
 namespace efs::registration {
@@ -17,7 +18,6 @@ namespace {
 Points2d thinPoints(const Points2d& points, double spacing_m) {
   std::unordered_map<long long, std::vector<size_t>> grid;  // cell -> indices into `out`
   const auto cellOf = [&](double v) { return static_cast<long long>(std::floor(v / spacing_m)); };
-  const auto key = [](long long cx, long long cy) { return (cx << 32) ^ (cy & 0xffffffffLL); };
   Points2d out;
   for (const Eigen::Vector2d& p : points) {
     if (!p.allFinite()) continue;
@@ -25,7 +25,7 @@ Points2d thinPoints(const Points2d& points, double spacing_m) {
     bool covered = false;
     for (long long dy = -1; dy <= 1 && !covered; ++dy) {
       for (long long dx = -1; dx <= 1 && !covered; ++dx) {
-        const auto it = grid.find(key(cx + dx, cy + dy));
+        const auto it = grid.find(cellKey2d(cx + dx, cy + dy));
         if (it == grid.end()) continue;
         for (size_t i : it->second) {
           if ((out[i] - p).norm() < spacing_m) {
@@ -36,7 +36,7 @@ Points2d thinPoints(const Points2d& points, double spacing_m) {
       }
     }
     if (covered) continue;
-    grid[key(cx, cy)].push_back(out.size());
+    grid[cellKey2d(cx, cy)].push_back(out.size());
     out.push_back(p);
   }
   return out;

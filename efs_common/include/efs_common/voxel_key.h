@@ -35,6 +35,14 @@ inline VoxelKey toVoxelKey(const Eigen::Vector3d& p_m, double resolution_m) {
           static_cast<int32_t>(std::floor(p_m.z() / resolution_m))};
 }
 
+/// One integer for a 2D grid cell: each index's low 32 bits, x in the high half. Packed as unsigned
+/// (shifting a negative signed value is undefined before C++20); the same value a signed shift
+/// gives on two's-complement machines.
+inline long long cellKey2d(long long ix, long long iy) {
+  return static_cast<long long>((static_cast<uint64_t>(ix) << 32) ^
+                                (static_cast<uint64_t>(iy) & 0xffffffffULL));
+}
+
 inline Eigen::Vector3d voxelCenter(const VoxelKey& k, double resolution_m) {
   return {(k.x + 0.5) * resolution_m, (k.y + 0.5) * resolution_m, (k.z + 0.5) * resolution_m};
 }
