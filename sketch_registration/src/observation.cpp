@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -97,6 +98,29 @@ class ColumnGrid {
   const float* heightsBegin(size_t c) const { return z_m_.data() + begin_[c]; }
   const float* heightsEnd(size_t c) const { return z_m_.data() + begin_[c + 1]; }
 
+  /// The highest point of each block of kBlockColumns x kBlockColumns columns. Heights sorted.
+  std::unordered_map<long long, float> highestPerBlock() const {
+    std::unordered_map<long long, float> top;
+    top.reserve(size() / 8 + 16);
+    for (size_t c = 0; c < size(); ++c) {
+      const auto [it, added] = top.emplace(blockKey(cells_[c], 0, 0), *(heightsEnd(c) - 1));
+      if (!added) it->second = std::max(it->second, *(heightsEnd(c) - 1));
+    }
+    return top;
+  }
+  /// The highest point in the 3 x 3 blocks around column `c`'s block: the ceiling over it where
+  /// one was seen (-inf where nothing is higher than the column itself).
+  double highestAround(size_t c, const std::unordered_map<long long, float>& top) const {
+    double z = -std::numeric_limits<double>::infinity();
+    for (long long dx = -1; dx <= 1; ++dx) {
+      for (long long dy = -1; dy <= 1; ++dy) {
+        const auto it = top.find(blockKey(cells_[c], dx, dy));
+        if (it != top.end()) z = std::max(z, static_cast<double>(it->second));
+      }
+    }
+    return z;
+  }
+
   /// Whether a column next to `c` (8-neighbourhood) holds a height in (z_lo, z_hi]. Heights
   /// sorted.
   bool neighbourHoldsHeightIn(size_t c, double z_lo, double z_hi) const {
@@ -115,6 +139,16 @@ class ColumnGrid {
   }
 
  private:
+  /// Blocks of columns for the ceiling lookup: 4 x 0.25 m columns, so the 3 x 3 blocks around a
+  /// column reach 1-2 m from it.
+  static constexpr long long kBlockColumns = 4;
+  static long long blockOf(long long i) {
+    return i >= 0 ? i / kBlockColumns : -((-i + kBlockColumns - 1) / kBlockColumns);
+  }
+  static long long blockKey(const CellIndex& cell, long long dx, long long dy) {
+    return cellKey2d(blockOf(cell.ix) + dx, blockOf(cell.iy) + dy);
+  }
+
   std::unordered_map<long long, uint32_t> index_;
   std::vector<CellIndex> cells_;
   std::vector<Eigen::Vector2d> sum_m_;
@@ -160,11 +194,14 @@ ProjectedMap observeLocalMap(const Points3d& local_map, const Eigen::Vector3d& r
   }
   if (config.wall_continuation_m > 0.0) {
     const double clear_top_m = robot.z() + config.wall_top_clear_m;
+    const std::unordered_map<long long, float> ceiling = grid.highestPerBlock();
     for (size_t c = 0; c < n; ++c) {
       if (kind[c] != ColumnKind::kWall) continue;
       const double top_m = *(grid.heightsEnd(c) - 1);
-      if (top_m < clear_top_m && !grid.neighbourHoldsHeightIn(c, top_m + kContinuationMinDz,
-                                                              top_m + config.wall_continuation_m)) {
+      const bool open_above =
+          top_m < clear_top_m || top_m < grid.highestAround(c, ceiling) - config.wall_max_gap_m;
+      if (open_above && !grid.neighbourHoldsHeightIn(c, top_m + kContinuationMinDz,
+                                                     top_m + config.wall_continuation_m)) {
         kind[c] = ColumnKind::kLowObstacle;
       }
     }

@@ -201,6 +201,29 @@ TEST(Observation, CarSeenWithoutTheCeilingIsALowObstacleNotWall) {
   EXPECT_EQ(all.num_low_obstacle_columns, 0u);
 }
 
+TEST(Observation, CarUnderACeilingSeenNearbyIsALowObstacleForALowRobotToo) {
+  // The robot flies below the car's roof, but the ceiling 4 m up was seen around the car (not
+  // over it: the car's own columns would be passage): the car's top lies far below the ceiling
+  // beside it, with nothing continuing it upward.
+  Points3d pts = carWithoutCeilingScene();
+  for (double x = -4; x <= 6 + 1e-9; x += kStep) {
+    for (double y = -4; y <= 4 + 1e-9; y += kStep) {
+      const bool over_car = x >= 0.5 && x <= 3.5 && y >= -2.75 && y <= 2.75;
+      if (!over_car) pts.emplace_back(x, y, 4.0);
+    }
+  }
+  const auto onCar = [](const Vector2d& p) {
+    return p.x() > 0.9 && p.x() < 3.1 && std::abs(p.y()) < 2.4;
+  };
+  const ProjectedMap m = observeLocalMap(pts, Vector3d(-2.0, 0.0, 0.8), ObservationConfig{}, 30.0);
+  EXPECT_FALSE(std::any_of(m.points_m.begin(), m.points_m.end(), onCar));
+  EXPECT_GT(m.num_low_obstacle_columns, 30u);
+  // The wall, which reaches the ceiling, stays.
+  EXPECT_GE(std::count_if(m.points_m.begin(), m.points_m.end(),
+                          [](const Vector2d& p) { return std::abs(p.x() - 6.0) < 0.2; }),
+            30);
+}
+
 TEST(Observation, CaveWallBulgingBelowTheRobotContinuesUpward) {
   // A tunnel whose widest extent (|y| = 2.5 at z = 1) lies 1 m below the robot: the outermost
   // columns' runs end below the robot, and the wall carries on upward in the columns inside.

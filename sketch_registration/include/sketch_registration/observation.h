@@ -17,13 +17,17 @@
 // (floor + lintel); car columns have space above the roof and are passage.
 //
 // Low obstacles: a car side seen from afar, with no ceiling return in its own column, is one run
-// from the floor to the roof, as tall as a wall. What tells it from a wall is its top: seen about
-// level with the robot (well inside the LiDAR's vertical field of view), with nothing above it in
-// that column or beside it. A wall either rises above the robot (a building's walls reach the
-// ceiling) or, where its column's run ends lower (the outermost column of a cave wall that curves
-// over), continues upward in a neighbouring column. A run that does neither is a low obstacle the
-// drawing leaves out (parked cars, crates) and is not wall. A wall the LiDAR saw only up to its
-// column's top cannot end below `wall_top_clear_m` above the robot unless it is closer than
+// from the floor to the roof, as tall as a wall. What tells it from a wall is its top: there is
+// open space above it, and nothing continues it upward. Open space above a top means either that
+// the top is seen below `wall_top_clear_m` above the robot (well inside the LiDAR's vertical field
+// of view, so a taller wall would have been seen taller), or that it lies more than
+// `wall_max_gap_m` below the highest point seen within 1-2 m (the ceiling beside a car; the robot
+// flies anywhere from 0.7 to 2.7 m in a garage, below car roofs too). A wall either reaches up
+// there (a building's walls meet the ceiling) or, where its column's run ends lower (the
+// outermost column of a cave wall that curves over), continues upward in a neighbouring column.
+// A run with open space above it that does neither is a low obstacle the drawing leaves out
+// (parked cars, crates) and is not wall. A wall the LiDAR saw only up to its column's top cannot
+// end below `wall_top_clear_m` above the robot unless it is closer than
 // wall_top_clear_m / tan(52 deg) ~ 0.25 m (the Mid-360's upper field of view).
 //
 // One code path: the descriptor and Scale-ICP both use observeLocalMap's points (ICP a coarser
@@ -44,9 +48,10 @@ struct ObservationConfig {
   double column_cell_m = 0.25;     ///< column grid (and the descriptor's input grid)
   double wall_min_height_m = 1.2;  ///< a wall column's points span at least this vertically
   double wall_max_gap_m = 1.2;     ///< a larger vertical gap in a column = free space (passage)
-  /// A wall run whose top reaches this far above the robot is wall without further test.
+  /// A wall run whose top is lower than this above the robot has open space above it.
   double wall_top_clear_m = 0.3;
-  /// A lower run is wall only if one of its 8 neighbouring columns holds a point between
+  /// A run with open space above it (the line above, or wall_max_gap_m below the highest point
+  /// seen within 1-2 m) is wall only if one of its 8 neighbouring columns holds a point between
   /// kContinuationMinDz and this far above its top (the surface continues upward); otherwise it
   /// is a low obstacle. 0: every run tall enough is wall (no low-obstacle test).
   double wall_continuation_m = 0.6;
