@@ -108,8 +108,8 @@ class ColumnGrid {
     }
     return top;
   }
-  /// The highest point in the 3 x 3 blocks around column `c`'s block: the ceiling over it where
-  /// one was seen (-inf where nothing is higher than the column itself).
+  /// The highest point in the 3 x 3 blocks around column `c`'s block: the ceiling beside it where
+  /// one was seen, else no higher than the column's own top.
   double highestAround(size_t c, const std::unordered_map<long long, float>& top) const {
     double z = -std::numeric_limits<double>::infinity();
     for (long long dx = -1; dx <= 1; ++dx) {
