@@ -752,15 +752,10 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
   tr.precompute_s = (threadCpuMs() - cpu0) * 1e-3;
 
   std::unique_ptr<Tree2> truth_tree;
-  std::unique_ptr<reg::ScaleIcp> truth_icp;
   // Diagnostics (truth fitness, single-frame retrieval) also run against a reference placement of
   // a real sketch (--reference); its success is still judged by the wall fit.
   const std::optional<Sim2> diag_truth =
       sketch.T_world_sketch ? sketch.T_world_sketch : opt.reference;
-  if (diag_truth) {
-    truth_icp =
-        std::make_unique<reg::ScaleIcp>(prior.boundary_sketch_m, reg::scaleIcpConfig(config));
-  }
   if (sketch.T_world_sketch) {
     reg::Points2d mapped;
     for (const Vector2d& p : prior.boundary_sketch_m)
@@ -787,7 +782,7 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
   if (diag_truth) {
     diagnostics.emplace(TruthDiagnostics{*diag_truth,
                                          prior.boundary_sketch_m,
-                                         *truth_icp,
+                                         registration.refinement(),
                                          4.0 * opt.d_gap_m,
                                          6.0 * opt.success_rmse_m,
                                          {}});
@@ -883,7 +878,7 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
         }
       }
     }
-    if (truth_icp) {
+    if (diag_truth) {
       // What the fitness test says about the true transform on this frame's observation.
       const reg::IcpResult e = registration.evaluateOnLastFrame(*diag_truth);
       if (e.num_points > 0) {

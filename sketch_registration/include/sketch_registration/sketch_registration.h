@@ -205,6 +205,9 @@ class SketchRegistration {
   /// transform there would be judged before refinement (diagnostics against a known truth).
   /// Not usable (IcpResult::usable false) when the last frame was ignored (bad input).
   IcpResult evaluateOnLastFrame(const Sim2& T_world_sketch) const;
+  /// The Scale-ICP refinement the hypotheses go through (diagnostics refine other transforms with
+  /// it rather than index the sketch a second time).
+  const ScaleIcp& refinement() const { return *icp_; }
   /// Forgets all frames and hypotheses (keeps Phase 1).
   void reset();
 
