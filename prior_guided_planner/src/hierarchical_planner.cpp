@@ -23,7 +23,7 @@ HierarchicalPlanner::HierarchicalPlanner(HierarchicalPlannerConfig config)
   config_.validate();
 }
 
-PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) const {
+PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) {
   if (!in.path_length_m) throw std::invalid_argument("HierarchicalPlanner: no path length oracle");
   PlanningResult res;
   const int nv = static_cast<int>(in.viewpoints.size());
@@ -109,7 +109,14 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) const {
       hs.confidence = h.confidence;
       hs.problem = buildGuidepointProblem(res.attachments.back(), *in.prior, h.T_world_sketch.scale,
                                           robot_len, config_.sequencing);
-      hs.mcts = mcts_.solve(hs.problem.problem, config_.mcts.seed + 7919 * k);
+      std::optional<MctsResult> kept;
+      if (config_.reuse_sequences) kept = memo_.recall(hs.problem);
+      if (kept) {
+        hs.mcts = std::move(*kept);
+      } else {
+        hs.mcts = mcts_.solve(hs.problem.problem, config_.mcts.seed + 7919 * k);
+        if (config_.reuse_sequences) memo_.remember(hs.problem, hs.mcts);
+      }
       res.sequences.push_back(std::move(hs));
     }
     if (!res.used_hypotheses.empty()) {

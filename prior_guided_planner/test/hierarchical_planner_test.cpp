@@ -119,7 +119,8 @@ TEST(HierarchicalPlanner, KeptRolloutWorkersChangeNothing) {
   EXPECT_GT(fresh.sequences[0].problem.problem.cost.size(), 14);  // the root rollout is an ILS
   HierarchicalPlannerConfig cfg;
   cfg.mcts.threads = 2;
-  const HierarchicalPlanner kept(cfg);
+  cfg.reuse_sequences = false;  // solved again each time, by the kept workers
+  HierarchicalPlanner kept(cfg);
   for (int run = 0; run < 2; ++run) {
     const PlanningResult r = kept.plan(in);
     ASSERT_EQ(r.sequences.size(), fresh.sequences.size());

@@ -15,6 +15,7 @@
 #include "prior_guided_planner/baseline_mode.h"
 #include "prior_guided_planner/fe_tsp.h"
 #include "prior_guided_planner/greedy_prior.h"
+#include "prior_guided_planner/sequence_memo.h"
 #include "prior_guided_planner/sequence_selection.h"
 
 namespace efs::planner {
@@ -32,6 +33,9 @@ struct HierarchicalPlannerConfig {
   /// The prior-free tour (and fallback) covers at most this many viewpoints, the nearest by
   /// L(X_r, V); the others wait for a later plan. Bounds the O(N^2) path lengths of the tour.
   int prior_free_max_viewpoints = 40;
+  /// Reuse a hypothesis' guidepoint sequences while its guidepoints and their states are
+  /// unchanged (sequence_memo.h); false solves the MCTS in every plan.
+  bool reuse_sequences = true;
   /// Throws efs::ConfigError naming the key.
   void validate() const;
 };
@@ -80,8 +84,12 @@ struct PlanningResult {
 class HierarchicalPlanner {
  public:
   explicit HierarchicalPlanner(HierarchicalPlannerConfig config = {});
-  /// Throws std::invalid_argument on malformed input (prior sizes, missing oracle).
-  PlanningResult plan(const PlanningInput& input) const;
+  /// Throws std::invalid_argument on malformed input (prior sizes, missing oracle). Not const:
+  /// the sequences of this plan are remembered for the next (HierarchicalPlannerConfig::
+  /// reuse_sequences).
+  PlanningResult plan(const PlanningInput& input);
+  /// Plans whose MCTS was reused / solved.
+  const SequenceMemo& sequenceMemo() const { return memo_; }
   const HierarchicalPlannerConfig& config() const { return config_; }
 
  private:
@@ -90,6 +98,7 @@ class HierarchicalPlanner {
   HierarchicalPlannerConfig config_;
   /// Kept between plans so that its rollout workers are too.
   MctsSequencer mcts_;
+  SequenceMemo memo_;
 };
 
 }  // namespace efs::planner

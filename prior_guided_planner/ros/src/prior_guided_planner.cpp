@@ -102,6 +102,7 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("mcts_exploration_constant", e.planner.mcts.exploration_constant);
   p.get("mcts_iterations", e.planner.mcts.iterations);
   p.get("mcts_threads", e.planner.mcts.threads);
+  p.get("mcts_reuse_sequences", e.planner.reuse_sequences);
   p.get("greedy_sensor_range_m", e.planner.greedy.sensor_range_m);
   int max_cells = static_cast<int>(c.markers.max_frontier_cells);
   p.get("max_marker_frontier_cells", max_cells);
