@@ -68,4 +68,12 @@ std::optional<Eigen::Vector3d> PositionHistory::at(double stamp_s, std::string* 
   return ((1.0 - w) * a.p_world_m + w * b.p_world_m).eval();
 }
 
+std::optional<Eigen::Vector3d> PositionHistory::velocity(double window_s) const {
+  if (samples_.empty() || !(window_s > 0.0) || !std::isfinite(window_s)) return std::nullopt;
+  const Sample& newest = samples_.back();
+  const std::optional<Eigen::Vector3d> before = at(newest.stamp_s - window_s);
+  if (!before) return std::nullopt;
+  return (newest.p_world_m - *before) / window_s;
+}
+
 }  // namespace efs

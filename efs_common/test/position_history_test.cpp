@@ -67,6 +67,20 @@ TEST(PositionHistory, OutOfOrderRepeatedAndBadSamples) {
   EXPECT_NEAR(h.at(1.0)->x(), 5.0, 1e-12);
 }
 
+TEST(PositionHistory, VelocityOverTheLastWindow) {
+  PositionHistory h;
+  EXPECT_FALSE(h.velocity(0.5));  // nothing yet
+  for (int i = 0; i <= 10; ++i) h.add(0.1 * i, Eigen::Vector3d(2.0 * 0.1 * i, -1.0 * 0.1 * i, 0));
+  const std::optional<Eigen::Vector3d> v = h.velocity(0.5);
+  ASSERT_TRUE(v);
+  EXPECT_TRUE(v->isApprox(Eigen::Vector3d(2.0, -1.0, 0.0), 1e-9)) << v->transpose();
+  EXPECT_FALSE(h.velocity(5.0));  // the history does not reach back that far
+  EXPECT_FALSE(h.velocity(0.0));
+  EXPECT_FALSE(h.velocity(std::numeric_limits<double>::quiet_NaN()));
+  h.add(2.0, Eigen::Vector3d(9, 9, 9));  // odometry lost for a second: no velocity across it
+  EXPECT_FALSE(h.velocity(0.5));
+}
+
 TEST(PositionHistory, AbsurdConfigurationNamesTheKey) {
   PositionHistoryConfig c;
   c.max_gap_s = -1.0;

@@ -234,6 +234,7 @@ void ExplorationMission::onScan() {
   planner::RobotPose robot;
   robot.position_world_m = sensor_m;
   robot.yaw_rad = yawOf(sim.latestOdometry().q_world_body);
+  robot.velocity_world_mps = sim.latestOdometry().v_world_m_s;
   const planner::ExplorationTarget* target = nullptr;
   {
     CpuTimer timer(log_.planner_cpu_s);

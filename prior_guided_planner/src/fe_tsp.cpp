@@ -15,6 +15,9 @@ void FeTspConfig::validate() const {
   requirePositive("fe_tsp.omega_max_radps", omega_max_radps);
   // |beta_e| <= 1 keeps J(X_r, V) >= 0: max(a, b) + beta_e * b >= (1 + beta_e) * b.
   requireInRange("fe_tsp.beta_e", beta_e, -1.0, 1.0);
+  requireInRange("fe_tsp.direction_change_cost_s_per_rad", direction_change_cost_s_per_rad, 0.0,
+                 100.0);
+  requireInRange("fe_tsp.direction_min_speed_mps", direction_min_speed_mps, 0.0, 100.0);
   atsp.validate();
 }
 
@@ -32,12 +35,23 @@ CostMatrix buildFeTspMatrix(const RobotPose& robot, const std::vector<PlanViewpo
   const int t = n + 1, dv = n + 2;
   CostMatrix c(size, kUnreachable);
   for (int i = 0; i < size; ++i) c(i, i) = 0.0;
+  const Eigen::Vector2d v_xy = robot.velocity_world_mps.head<2>();
+  // A terminal gives the tour its direction (the guidance); without one, the robot's motion does.
+  const bool moving = !term && config.direction_change_cost_s_per_rad > 0.0 && v_xy.allFinite() &&
+                      v_xy.norm() >= std::max(config.direction_min_speed_mps, 1e-6);
   for (int a = 0; a < n; ++a) {
     const PlanViewpoint& va = viewpoints.at(selected[a]);
     const double l = path_length_m(kRobotNode, selected[a]);
     const double dyaw_s = std::abs(angleDiff(va.yaw_rad, robot.yaw_rad)) / config.omega_max_radps;
     const double urg = isolated[a] ? config.beta_e * dyaw_s : 0.0;
-    c(0, a + 1) = l < kUnreachable ? std::max(l / config.v_max_mps, dyaw_s) + urg : kUnreachable;
+    double turn_s = 0.0;
+    const Eigen::Vector2d to_v = va.position_world_m.head<2>() - robot.position_world_m.head<2>();
+    if (moving && to_v.norm() > 1e-6) {
+      const double cosine = std::clamp(to_v.normalized().dot(v_xy.normalized()), -1.0, 1.0);
+      turn_s = config.direction_change_cost_s_per_rad * std::acos(cosine);
+    }
+    c(0, a + 1) =
+        l < kUnreachable ? std::max(l / config.v_max_mps, dyaw_s) + urg + turn_s : kUnreachable;
     c(a + 1, 0) = 0.0;
     for (int b = 0; b < n; ++b) {
       if (a == b) continue;

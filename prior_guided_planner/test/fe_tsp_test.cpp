@@ -163,6 +163,51 @@ TEST(FeTsp, PriorFreeVisitsAllAndIsOptimalOnSmallScenes) {
   EXPECT_TRUE(solvePriorFreeTour(robot, {}, L, {}).viewpoints.empty());
 }
 
+// Two viewpoints at the same path length and yaw, one ahead of the moving robot, one behind.
+TEST(FeTsp, MovingRobotPrefersTheViewpointAhead) {
+  RobotPose robot;
+  robot.position_world_m.z() = 1.0;
+  robot.velocity_world_mps = Eigen::Vector3d(2.0, 0.0, 0.0);
+  const std::vector<PlanViewpoint> v{{0, {-6.0, 0.0, 1.0}, 0.0}, {1, {6.0, 0.0, 1.0}, 0.0}};
+  const auto L = euclidean(robot, v);
+  FeTspConfig cfg;
+  cfg.direction_change_cost_s_per_rad = 1.0;
+  const CostMatrix c = buildFeTspMatrix(robot, v, {0, 1}, {false, false}, std::nullopt, L, cfg);
+  EXPECT_NEAR(c(0, 2), 6.0 / 4.0, 1e-12);         // straight ahead: no extra cost
+  EXPECT_NEAR(c(0, 1), 6.0 / 4.0 + M_PI, 1e-12);  // turning round: pi rad
+  EXPECT_EQ(solvePriorFreeTour(robot, v, L, cfg).viewpoints.front(), 1);
+
+  robot.velocity_world_mps = Eigen::Vector3d(-2.0, 0.0, 0.0);
+  EXPECT_EQ(solvePriorFreeTour(robot, v, L, cfg).viewpoints.front(), 0);
+}
+
+TEST(FeTsp, HoveringGuidedOrPaperCostsHaveNoDirectionTerm) {
+  RobotPose robot;
+  robot.position_world_m.z() = 1.0;
+  const std::vector<PlanViewpoint> v{{0, {-6.0, 0.0, 1.0}, 0.0}, {1, {0.0, 6.0, 1.0}, 0.0}};
+  const auto L = euclidean(robot, v);
+  FeTspConfig cfg;
+  cfg.direction_change_cost_s_per_rad = 1.0;
+  robot.velocity_world_mps = Eigen::Vector3d(0.3, 0.0, 0.0);  // below direction_min_speed_mps
+  const CostMatrix hovering = buildFeTspMatrix(robot, v, {0, 1}, {false, false}, {}, L, cfg);
+  EXPECT_NEAR(hovering(0, 1), 1.5, 1e-12);
+  EXPECT_NEAR(hovering(0, 2), 1.5, 1e-12);
+  robot.velocity_world_mps = Eigen::Vector3d(3.0, 0.0, 0.0);
+  cfg.direction_change_cost_s_per_rad = 0.0;
+  const CostMatrix paper = buildFeTspMatrix(robot, v, {0, 1}, {false, false}, {}, L, cfg);
+  EXPECT_NEAR(paper(0, 1), 1.5, 1e-12);
+  EXPECT_NEAR(paper(0, 2), 1.5, 1e-12);
+  robot.velocity_world_mps = Eigen::Vector3d(3.0, 0.0, 0.0);
+  const Eigen::Vector2d terminal(0.0, 30.0);  // the guidance sets the direction
+  const CostMatrix guided = buildFeTspMatrix(robot, v, {0, 1}, {false, false}, terminal, L, cfg);
+  EXPECT_NEAR(guided(0, 1), 1.5, 1e-12);
+  EXPECT_NEAR(guided(0, 2), 1.5, 1e-12);
+  robot.velocity_world_mps = Eigen::Vector3d(std::nan(""), 0.0, 0.0);  // never NaN costs
+  cfg.direction_change_cost_s_per_rad = 1.0;
+  const CostMatrix unknown = buildFeTspMatrix(robot, v, {0, 1}, {false, false}, {}, L, cfg);
+  EXPECT_NEAR(unknown(0, 2), 1.5, 1e-12);
+}
+
 TEST(FeTsp, ConfigValidationNamesTheKey) {
   FeTspConfig cfg;
   cfg.v_max_mps = 0.0;
@@ -178,6 +223,14 @@ TEST(FeTsp, ConfigValidationNamesTheKey) {
   cfg = FeTspConfig();
   EXPECT_DOUBLE_EQ(cfg.beta_e, -0.2);
   EXPECT_DOUBLE_EQ(cfg.omega_max_radps, 4.0);
+  EXPECT_DOUBLE_EQ(cfg.direction_change_cost_s_per_rad, 0.0);  // the paper's costs
+  cfg.direction_change_cost_s_per_rad = -1.0;
+  try {
+    cfg.validate();
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("direction_change_cost_s_per_rad"), std::string::npos);
+  }
 }
 
 }  // namespace

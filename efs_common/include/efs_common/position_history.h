@@ -36,6 +36,10 @@ class PositionHistory {
   /// stamp lies before the history, beyond the extrapolation, or inside a gap wider than max_gap_s.
   std::optional<Eigen::Vector3d> at(double stamp_s, std::string* why = nullptr) const;
 
+  /// Mean velocity over the `window_s` up to the newest sample (window_s > 0), from the positions
+  /// then and now; empty when the history does not reach back that far or spans a gap.
+  std::optional<Eigen::Vector3d> velocity(double window_s) const;
+
   bool empty() const { return samples_.empty(); }
   size_t size() const { return samples_.size(); }
   void clear() { samples_.clear(); }

@@ -99,6 +99,8 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("v_max_mps", e.planner.fe_tsp.v_max_mps);
   p.get("omega_max_radps", e.planner.fe_tsp.omega_max_radps);
   p.get("beta_e", e.planner.fe_tsp.beta_e);
+  p.get("direction_change_cost_s_per_rad", e.planner.fe_tsp.direction_change_cost_s_per_rad);
+  p.get("direction_min_speed_mps", e.planner.fe_tsp.direction_min_speed_mps);
   p.get("mcts_exploration_constant", e.planner.mcts.exploration_constant);
   p.get("mcts_iterations", e.planner.mcts.iterations);
   p.get("mcts_threads", e.planner.mcts.threads);
@@ -201,8 +203,13 @@ void PriorGuidedPlannerNode::onOdometry(const nav_msgs::Odometry::ConstPtr& msg)
   pose.position_world_m = pos;
   pose.yaw_rad = std::atan2(r(1, 0), r(0, 0));
   if (robot_) travelled_m_ += (pos - robot_->position_world_m).norm();
-  robot_ = pose;
   positions_.add(msg->header.stamp.toSec(), pos);
+  // Velocity from the track, not the message's twist: FAST-LIO2 gives it in the body frame and
+  // other odometry sources leave it zero. Half a second smooths the controller's jitter.
+  constexpr double kVelocityWindow_s = 0.5;
+  if (const std::optional<Eigen::Vector3d> v = positions_.velocity(kVelocityWindow_s))
+    pose.velocity_world_mps = *v;
+  robot_ = pose;
   if (mission_map_) mission_map_->addPose(msg->header.stamp.toSec(), pos, pose.yaw_rad);
   last_odom_stamp_ = msg->header.stamp;
   if (!first_odom_stamp_) first_odom_stamp_ = msg->header.stamp;
