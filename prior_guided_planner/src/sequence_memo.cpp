@@ -38,7 +38,7 @@ std::optional<MctsResult> SequenceMemo::recall(const GuidepointProblem& gp) {
       r.feasible = true;
     }
     bool complete = true;
-    for (int j = 1; j < m && complete; ++j) {
+    for (int j = 1; j < m; ++j) {
       if (!p.exploring[j] || !(p.cost(0, j) < kUnreachable)) continue;
       const std::vector<int>& s = it->sequence_by_first[j];
       if (s.empty()) {
