@@ -174,14 +174,8 @@ class Search {
         parallel_([this](int jobs, const std::function<void(int)>& fn) { runJobs(jobs, fn); }) {}
 
   MctsResult run() {
-    MctsResult res;
-    res.best_length_by_first.assign(m_, kUnreachable);
-    res.best_sequence_by_first.assign(m_, {});
-    if (m_ == 1) {
-      res.length = 0.0;
-      res.feasible = true;
-      return res;
-    }
+    MctsResult res = initialMctsResult(m_);
+    if (m_ == 1) return res;
     nodes_.push_back(Node{});
     const Rollout root = rollout(0);
     res.rollouts = 1;
@@ -375,18 +369,23 @@ MctsResult MctsSequencer::solve(const MctsProblem& problem, uint64_t seed) const
   return Search(problem, config_, seed, pool_.get()).run();
 }
 
+MctsResult initialMctsResult(int nodes) {
+  MctsResult res;
+  res.best_length_by_first.assign(nodes, kUnreachable);
+  res.best_sequence_by_first.assign(nodes, {});
+  if (nodes == 1) {
+    res.length = 0.0;
+    res.feasible = true;
+  }
+  return res;
+}
+
 MctsResult solveSequenceExhaustive(const MctsProblem& p) {
   checkProblem(p);
   const int m = p.cost.size();
   if (m > 10) throw std::invalid_argument("solveSequenceExhaustive: more than 9 guidepoints");
-  MctsResult res;
-  res.best_length_by_first.assign(m, kUnreachable);
-  res.best_sequence_by_first.assign(m, {});
-  if (m == 1) {
-    res.length = 0.0;
-    res.feasible = true;
-    return res;
-  }
+  MctsResult res = initialMctsResult(m);
+  if (m == 1) return res;
   std::vector<int> s(m - 1);
   std::iota(s.begin(), s.end(), 1);
   do {

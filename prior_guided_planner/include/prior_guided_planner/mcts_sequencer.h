@@ -90,6 +90,10 @@ class MctsSequencer {
   std::shared_ptr<RolloutPool> pool_;
 };
 
+/// The result of a problem of `nodes` nodes before any sequence is found: every per-node entry
+/// unreachable. With no guidepoint (nodes == 1) it is already final: the empty sequence, length 0.
+MctsResult initialMctsResult(int nodes);
+
 /// Exhaustive search over all sequences (n <= 9), for tests and benches.
 MctsResult solveSequenceExhaustive(const MctsProblem& problem);
 

@@ -49,6 +49,9 @@ class SequenceMemo {
     /// Per problem node: the best sequence found that starts there (empty if none).
     std::vector<std::vector<int>> sequence_by_first;
   };
+  /// The entry of the same guidepoints in the same states (at most one), or end().
+  std::list<Entry>::iterator find(const GuidepointProblem& problem);
+
   size_t capacity_;
   std::list<Entry> entries_;  ///< most recently used first
   size_t hits_ = 0, misses_ = 0;
