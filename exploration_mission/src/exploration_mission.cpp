@@ -158,8 +158,19 @@ bool ExplorationMission::step() {
   if (const auto& failure = trajectory_.goalFailure();
       failure && failure->sequence != reported_goal_failure_) {
     reported_goal_failure_ = failure->sequence;
-    CpuTimer timer(log_.planner_cpu_s);
-    if (exploration_->reportGoalUnreachable(failure->goal_world_m, t)) ++log_.goals_given_up;
+    GoalFailureRecord record;
+    record.time_s = t;
+    record.goal_world_m = failure->goal_world_m;
+    record.robot_world_m = odom.p_world_m;
+    record.failed_plans = failure->failed_plans;
+    record.status = failure->status;
+    record.message = failure->message;
+    {
+      CpuTimer timer(log_.planner_cpu_s);
+      record.set_aside = exploration_->reportGoalUnreachable(failure->goal_world_m, t);
+    }
+    if (record.set_aside) ++log_.goals_given_up;
+    log_.goal_failures.push_back(std::move(record));
   }
   const traj::ReferenceSample sample = trajectory_.sample(t);
   control::FlatReference ref;

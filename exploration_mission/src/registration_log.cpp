@@ -1,21 +1,9 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include "exploration_mission/registration_log.h"
 
-#include <string>
+#include "exploration_mission/csv_field.h"
 
 namespace efs::mission {
-
-namespace {
-/// RFC 4180 field: quoted, inner quotes doubled (messages hold commas).
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + '"';
-}
-}  // namespace
 
 void writeRegistrationLog(std::ostream& out, const std::vector<HypothesisRecord>& records) {
   out << "time_s,status,hypotheses,best_id,best_fitness_m,best_confidence,best_coverage,"
@@ -31,7 +19,7 @@ void writeRegistrationLog(std::ostream& out, const std::vector<HypothesisRecord>
           << T.scale << ',' << T.yaw_rad << ',' << T.t_m.x() << ',' << T.t_m.y() << ','
           << (T.reflected ? 1 : 0);
     }
-    out << ',' << quoted(r.message) << '\n';
+    out << ',' << csvQuoted(r.message) << '\n';
   }
 }
 

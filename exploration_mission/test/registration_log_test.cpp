@@ -7,15 +7,10 @@
 #include <string>
 #include <vector>
 
+#include "efs_common/testing/text_lines.h"
+
 namespace efs::mission {
 namespace {
-
-std::vector<std::string> lines(const std::string& text) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  for (std::string l; std::getline(in, l);) out.push_back(l);
-  return out;
-}
 
 TEST(RegistrationLog, OneLinePerFrameWithTheBestHypothesisAndTheQuotedReason) {
   HypothesisRecord waiting;
@@ -36,7 +31,7 @@ TEST(RegistrationLog, OneLinePerFrameWithTheBestHypothesisAndTheQuotedReason) {
 
   std::ostringstream out;
   writeRegistrationLog(out, {waiting, found});
-  const std::vector<std::string> l = lines(out.str());
+  const std::vector<std::string> l = testing::textLines(out.str());
   ASSERT_EQ(l.size(), 3u);
   EXPECT_EQ(l[0].rfind("time_s,status,hypotheses,best_id,", 0), 0u);
   EXPECT_EQ(l[1], R"(5,all_rejected_by_fitness,0,,,,,,,,,,"8 transforms refined, none with F )"

@@ -10,6 +10,7 @@
 
 #include "efs_common/cli_args.h"
 #include "efs_common/resource_usage.h"
+#include "exploration_mission/goal_failure_log.h"
 #include "exploration_mission/mission_report.h"
 #include "exploration_mission/mission_spec.h"
 #include "exploration_mission/plan_log.h"
@@ -22,7 +23,8 @@ constexpr const char* kUsage =
 
 Flies one headless closed-loop exploration in simulated time and writes DIR/summary.json,
 DIR/summary.md, DIR/trajectory.png, DIR/coverage.png, DIR/plan_log.csv (a line per planning
-cycle: mode, hypothesis, guidepoint states, next guidepoint, goal), and with a sketch DIR/prior.prior (the
+cycle: mode, hypothesis, guidepoint states, next guidepoint, goal), DIR/goal_failures.csv (a line
+per goal the local planner gave up on: where, why, set aside or not), and with a sketch DIR/prior.prior (the
 pre-processed sketch), DIR/prior_overlay.png (and DIR/sketch.png when it draws one) and
 DIR/registration_log.csv (a line per registration frame: status, its reason, best hypothesis), and
 what the mission leaves behind in DIR/map/: cloud.pcd (dense point cloud), occupancy.bt
@@ -104,6 +106,8 @@ int main(int argc, char** argv) {
       std::ofstream registration_csv(out_dir + "/registration_log.csv");
       mission::writeRegistrationLog(registration_csv, mission->log().registrations);
     }
+    std::ofstream goal_failures_csv(out_dir + "/goal_failures.csv");
+    mission::writeGoalFailureLog(goal_failures_csv, mission->log().goal_failures);
     char wall_line[64];
     std::snprintf(wall_line, sizeof(wall_line), "\nWall time: %.0f s\n", wall.elapsedSeconds());
     const std::string md =

@@ -43,6 +43,18 @@ struct TrajectoryRecord {
   double speed_mps = 0.0;
 };
 
+/// A goal the local planner gave up on, and what the exploration planner made of it.
+struct GoalFailureRecord {
+  double time_s = 0.0;
+  Eigen::Vector3d goal_world_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d robot_world_m = Eigen::Vector3d::Zero();  ///< odometry when it gave up
+  int failed_plans = 0;
+  traj::PlanStatus status = traj::PlanStatus::kGoalUnreachable;  ///< of the last failed plan
+  std::string message;  ///< the local planner's reason for that plan
+  /// The goal was still the planner's current one, so its viewpoint was set aside.
+  bool set_aside = false;
+};
+
 /// What the mission did; filled as it flies.
 struct MissionLog {
   MissionEnd end = MissionEnd::kRunning;
@@ -57,6 +69,7 @@ struct MissionLog {
   size_t replans = 0, emergency_stops = 0, planner_cycles = 0;
   /// Goals the local planner gave up on while they were the planner's current goal.
   size_t goals_given_up = 0;
+  std::vector<GoalFailureRecord> goal_failures;  ///< every goal it gave up on
   /// Distance between the reference and the true position, over the flight (RMS set at the end).
   double max_tracking_error_m = 0.0, rms_tracking_error_m = 0.0;
   /// Closest the vehicle's centre came to the world's surface (sampled at 10 Hz, capped at 2 m;

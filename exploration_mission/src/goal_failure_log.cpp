@@ -1,0 +1,19 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "exploration_mission/goal_failure_log.h"
+
+#include "exploration_mission/csv_field.h"
+
+namespace efs::mission {
+
+void writeGoalFailureLog(std::ostream& out, const std::vector<GoalFailureRecord>& records) {
+  out << "time_s,goal_x_m,goal_y_m,goal_z_m,robot_x_m,robot_y_m,robot_z_m,failed_plans,status,"
+         "set_aside,message\n";
+  for (const GoalFailureRecord& r : records) {
+    out << r.time_s << ',' << r.goal_world_m.x() << ',' << r.goal_world_m.y() << ','
+        << r.goal_world_m.z() << ',' << r.robot_world_m.x() << ',' << r.robot_world_m.y() << ','
+        << r.robot_world_m.z() << ',' << r.failed_plans << ',' << traj::toString(r.status) << ','
+        << (r.set_aside ? 1 : 0) << ',' << csvQuoted(r.message) << '\n';
+  }
+}
+
+}  // namespace efs::mission
