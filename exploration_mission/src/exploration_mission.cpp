@@ -161,6 +161,7 @@ bool ExplorationMission::step() {
     GoalFailureRecord record;
     record.time_s = t;
     record.goal_world_m = failure->goal_world_m;
+    record.viewpoint_world_m = exploration_->target().viewpoint_world_m;
     record.robot_world_m = odom.p_world_m;
     record.failed_plans = failure->failed_plans;
     record.status = failure->status;

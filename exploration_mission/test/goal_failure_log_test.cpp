@@ -16,6 +16,7 @@ TEST(GoalFailureLog, OneLinePerGoalWithPlacesStatusAndTheQuotedReason) {
   GoalFailureRecord refused;
   refused.time_s = 12.5;
   refused.goal_world_m = Eigen::Vector3d(257.5, 38.5, 40.5);
+  refused.viewpoint_world_m = Eigen::Vector3d(258.25, 38.5, 40.25);
   refused.robot_world_m = Eigen::Vector3d(255.75, 39.25, 43.25);
   refused.failed_plans = 3;
   refused.status = traj::PlanStatus::kGoalUnreachable;
@@ -32,12 +33,12 @@ TEST(GoalFailureLog, OneLinePerGoalWithPlacesStatusAndTheQuotedReason) {
   const std::vector<std::string> l = testing::textLines(out.str());
   ASSERT_EQ(l.size(), 3u);
   EXPECT_EQ(l[0],
-            "time_s,goal_x_m,goal_y_m,goal_z_m,robot_x_m,robot_y_m,robot_z_m,failed_plans,"
-            "status,set_aside,message");
-  EXPECT_EQ(l[1], std::string("12.5,257.5,38.5,40.5,255.75,39.25,43.25,3,") +
+            "time_s,goal_x_m,goal_y_m,goal_z_m,viewpoint_x_m,viewpoint_y_m,viewpoint_z_m,robot_x_m,"
+            "robot_y_m,robot_z_m,failed_plans,status,set_aside,message");
+  EXPECT_EQ(l[1], std::string("12.5,257.5,38.5,40.5,258.25,38.5,40.25,255.75,39.25,43.25,3,") +
                       traj::toString(traj::PlanStatus::kGoalUnreachable) +
                       R"(,1,"goal in an occupied cell, ""inflated""")");
-  EXPECT_EQ(l[2], std::string("20,257.5,38.5,40.5,255.75,39.25,43.25,3,") +
+  EXPECT_EQ(l[2], std::string("20,257.5,38.5,40.5,258.25,38.5,40.25,255.75,39.25,43.25,3,") +
                       traj::toString(traj::PlanStatus::kCorridorFailed) + R"(,0,"no corridor")");
 }
 

@@ -47,6 +47,8 @@ struct TrajectoryRecord {
 struct GoalFailureRecord {
   double time_s = 0.0;
   Eigen::Vector3d goal_world_m = Eigen::Vector3d::Zero();
+  /// The planner's target viewpoint then (the goal lies on the way to it or along the tour).
+  Eigen::Vector3d viewpoint_world_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d robot_world_m = Eigen::Vector3d::Zero();  ///< odometry when it gave up
   int failed_plans = 0;
   traj::PlanStatus status = traj::PlanStatus::kGoalUnreachable;  ///< of the last failed plan
