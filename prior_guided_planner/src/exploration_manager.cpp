@@ -29,6 +29,7 @@ void ExplorationManagerConfig::validate() const {
   requireInRange("target_progress_timeout_s", target_progress_timeout_s, 0.1, 1e6);
   requireInRange("unreachable_retry_s", unreachable_retry_s, 0.0, 1e6);
   requireInRange("unreachable_attempts", unreachable_attempts, 1, 1000);
+  requireInRange("unreachable_near_m", unreachable_near_m, 0.0, 1e3);
   requireInRange("max_goal_distance_m", max_goal_distance_m, 1.0, 1e4);
   requireInRange("max_goal_climb_m", max_goal_climb_m, 0.5, 1e4);
   requireInRange("tour_lookahead_m", tour_lookahead_m, 0.0, 1e4);
@@ -150,14 +151,23 @@ bool ExplorationManager::reportGoalUnreachable(const Eigen::Vector3d& goal_world
       !target_.goal_viewpoint_id || (goal_world_m - target_.goal_world_m).norm() > kSameGoal_m)
     return false;
   const int id = *target_.goal_viewpoint_id;
-  setAside(id, time_s);
+  const double distance_m = (target_.viewpoint_world_m - last_robot_world_m_).norm();
+  const bool near = distance_m <= config_.unreachable_near_m;
+  if (near) {
+    (opening_look_at_.count(id) ? reached_opening_ids_ : reached_viewpoint_ids_).insert(id);
+    ++stats_.goals_refused_near;
+  } else {
+    setAside(id, time_s);
+  }
   refused_goals_.push_back({goal_world_m, time_s + config_.unreachable_retry_s});
   if (progress_ && progress_->viewpoint_id == id) progress_.reset();
   goal_refused_ = true;
   ++stats_.goals_refused;
   std::ostringstream os;
   os << "the local planner found no way to the goal (" << goal_world_m.x() << ", "
-     << goal_world_m.y() << ", " << goal_world_m.z() << "): viewpoint " << id << " set aside";
+     << goal_world_m.y() << ", " << goal_world_m.z() << "): viewpoint " << id
+     << (near ? " counted as reached, " : " set aside, ") << std::round(10.0 * distance_m) / 10.0
+     << " m away";
   pending_message_ = os.str();
   return true;
 }
@@ -500,6 +510,7 @@ const ExplorationTarget& ExplorationManager::update(double time_s, const RobotPo
     return target_;
   }
   last_time_s_ = time_s;
+  last_robot_world_m_ = robot.position_world_m;
   if (stats_.scans_inserted == 0) {
     target_.state = ExplorationState::kWaitingForData;
     target_.has_goal = false;

@@ -211,6 +211,52 @@ TEST(ExplorationManager, AGoalTheLocalPlannerGaveUpOnIsSetAsideAtOnce) {
   }
 }
 
+// The local planner gave up on a goal whose viewpoint is within unreachable_near_m of the
+// vehicle (a viewpoint below it, over a floor nobody has seen): the viewpoint counts as reached.
+// It is not retried after unreachable_retry_s nor when nothing else is left (a set-aside one
+// would draw the vehicle back to it), and it is not counted as given up.
+TEST(ExplorationManager, AGoalRefusedNearTheVehicleCountsItsViewpointAsReached) {
+  ExplorationManagerConfig c;
+  c.unreachable_retry_s = 1.0;
+  c.unreachable_near_m = 3.0;  // between the 2 m below and the first target from the start
+  ExplorationManager m(c, std::nullopt);
+  const Eigen::Vector3d start = corridorStart();
+  scanCorridor(m);
+  ASSERT_EQ(m.update(0.0, at(start)).state, ExplorationState::kExploring);
+  const int refused = *m.target().goal_viewpoint_id;
+  const Eigen::Vector3d viewpoint = m.target().viewpoint_world_m;
+  // Hovering 2 m from the viewpoint (out of target_reached_m), the goal unchanged.
+  const Eigen::Vector3d beside = viewpoint - 2.0 * (viewpoint - start).normalized();
+  ASSERT_EQ(*m.update(0.1, at(beside)).goal_viewpoint_id, refused);
+  ASSERT_TRUE(m.reportGoalUnreachable(m.target().goal_world_m, 0.2));
+  const ExplorationTarget& t = m.update(0.3, at(beside));
+  EXPECT_TRUE(t.replanned);
+  EXPECT_NE(t.message.find("counted as reached"), std::string::npos) << t.message;
+  EXPECT_EQ(m.inputStats().goals_refused, 1u);
+  EXPECT_EQ(m.inputStats().goals_refused_near, 1u);
+
+  // Long past the retry time (and short of the progress watchdog's, which would set the other
+  // targets aside, the robot never moving), the viewpoint does not come back.
+  ASSERT_LT(8.0, c.target_progress_timeout_s);
+  for (double time = 1.0; time < 8.0; time += 0.5) {
+    m.update(time, at(beside));
+    if (m.target().goal_viewpoint_id) {
+      EXPECT_NE(*m.target().goal_viewpoint_id, refused);
+    }
+    if (m.target().state == ExplorationState::kFinished) break;
+  }
+  EXPECT_EQ(m.inputStats().viewpoints_given_up, 0u);
+
+  // Farther than unreachable_near_m the same report sets the viewpoint aside.
+  ExplorationManager far(c, std::nullopt);
+  scanCorridor(far);
+  far.update(0.0, at(start));
+  ASSERT_GT((far.target().viewpoint_world_m - start).norm(), 3.0);
+  ASSERT_TRUE(far.reportGoalUnreachable(far.target().goal_world_m, 0.1));
+  EXPECT_NE(far.update(0.2, at(start)).message.find("set aside"), std::string::npos);
+  EXPECT_EQ(far.inputStats().goals_refused_near, 0u);
+}
+
 // The ROS graph's endless cycle (seen in mission_wrong_sketch): the local planner gives up on
 // every goal it is sent. Each viewpoint gets unreachable_attempts, the set-aside ones are
 // retried without waiting out the retry time, and the exploration ends, naming the leftovers.
@@ -494,6 +540,9 @@ TEST(ExplorationManager, ConfigErrorsNameTheKey) {
   c = {};
   c.unreachable_attempts = 0;
   expectKey(c, "unreachable_attempts");
+  c = {};
+  c.unreachable_near_m = std::nan("");
+  expectKey(c, "unreachable_near_m");
   c = {};
   c.bounds_world_m = Eigen::AlignedBox3d(Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(0, 0, 0));
   expectKey(c, "bounds_world_m");

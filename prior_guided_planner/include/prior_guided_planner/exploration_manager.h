@@ -79,6 +79,13 @@ struct ExplorationManagerConfig {
   /// A viewpoint set aside this many times is given up for good (counted in
   /// ExplorationInputStats::viewpoints_given_up and named when the exploration finishes).
   int unreachable_attempts = 2;
+  /// When the local planner gives up on the goal of a viewpoint this close to the vehicle [m],
+  /// the viewpoint counts as reached instead of set aside: the vehicle is as near as it can get,
+  /// and what it can see from there it has seen. Seen in a 500 m cave: viewpoints 2-2.7 m below
+  /// and up to 2 m beside the vehicle (3.3 m away), over a floor the LiDAR cannot see from above
+  /// (the local planner does not descend through unknown space); set aside and retried 60 s
+  /// later, one drew the guided flight 80 m back. 0: always set aside.
+  double unreachable_near_m = 4.0;
   /// A target viewpoint farther than this horizontally (or max_goal_climb_m vertically) is
   /// handed to the local planner in stages: the point of the searched path at that distance.
   /// The local planner sees a window around the robot only (minco_traj: 24 x 24 x 6 m); a goal
@@ -131,6 +138,7 @@ struct ExplorationInputStats {
   size_t updates_rejected = 0;  ///< time going backwards or non-finite time / pose
   size_t hypotheses_rejected = 0;
   size_t goals_refused = 0;        ///< goals the local planner gave up on (reportGoalUnreachable)
+  size_t goals_refused_near = 0;   ///< ... of them, near enough to count as reached
   size_t viewpoints_given_up = 0;  ///< set aside unreachable_attempts times: not planned again
 };
 
@@ -152,7 +160,8 @@ class ExplorationManager {
 
   /// The local planner gave up on `goal_world_m` (minco_traj: give_up_after_failed_plans). When
   /// that is the current goal, its viewpoint is set aside for unreachable_retry_s at once (the
-  /// no-progress watchdog would wait target_progress_timeout_s) and the next update() replans.
+  /// no-progress watchdog would wait target_progress_timeout_s), or counts as reached when it
+  /// lies within unreachable_near_m of the vehicle's last update, and the next update() replans.
   /// Returns false (and does nothing) for a goal that is no longer the current one or a
   /// non-finite one.
   bool reportGoalUnreachable(const Eigen::Vector3d& goal_world_m, double time_s);
@@ -246,6 +255,7 @@ class ExplorationManager {
   std::optional<PlanningResult> last_plan_;
   double goal_distance_at_plan_m_ = 0.0;  ///< robot to goal when the goal was set
   std::optional<double> last_time_s_;
+  Eigen::Vector3d last_robot_world_m_ = Eigen::Vector3d::Zero();  ///< at the last update
   std::optional<double> last_plan_time_s_;
   ExplorationTarget target_;
   ExplorationInputStats stats_;

@@ -57,6 +57,7 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("target_progress_timeout_s", e.target_progress_timeout_s);
   p.get("unreachable_retry_s", e.unreachable_retry_s);
   p.get("unreachable_attempts", e.unreachable_attempts);
+  p.get("unreachable_near_m", e.unreachable_near_m);
   p.get("opening_search_radius_m", e.openings.search_radius_m);
   p.get("near_openings_radius_m", e.near_openings_radius_m);
   p.get("near_openings_min_cells", e.near_openings_min_cells);
