@@ -168,9 +168,9 @@ bool ExplorationMission::step() {
     record.message = failure->message;
     {
       CpuTimer timer(log_.planner_cpu_s);
-      record.set_aside = exploration_->reportGoalUnreachable(failure->goal_world_m, t);
+      record.outcome = exploration_->reportGoalUnreachable(failure->goal_world_m, t);
     }
-    if (record.set_aside) ++log_.goals_given_up;
+    if (record.outcome != planner::GoalRefusal::kNotCurrent) ++log_.goals_given_up;
     log_.goal_failures.push_back(std::move(record));
   }
   const traj::ReferenceSample sample = trajectory_.sample(t);

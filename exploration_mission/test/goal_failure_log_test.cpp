@@ -21,12 +21,12 @@ TEST(GoalFailureLog, OneLinePerGoalWithPlacesStatusAndTheQuotedReason) {
   refused.failed_plans = 3;
   refused.status = traj::PlanStatus::kGoalUnreachable;
   refused.message = R"(goal in an occupied cell, "inflated")";
-  refused.set_aside = true;
+  refused.outcome = planner::GoalRefusal::kCountedReached;
   GoalFailureRecord stale = refused;
   stale.time_s = 20.0;
   stale.status = traj::PlanStatus::kCorridorFailed;
   stale.message = "no corridor";
-  stale.set_aside = false;
+  stale.outcome = planner::GoalRefusal::kNotCurrent;
 
   std::ostringstream out;
   writeGoalFailureLog(out, {refused, stale});
@@ -34,12 +34,13 @@ TEST(GoalFailureLog, OneLinePerGoalWithPlacesStatusAndTheQuotedReason) {
   ASSERT_EQ(l.size(), 3u);
   EXPECT_EQ(l[0],
             "time_s,goal_x_m,goal_y_m,goal_z_m,viewpoint_x_m,viewpoint_y_m,viewpoint_z_m,robot_x_m,"
-            "robot_y_m,robot_z_m,failed_plans,status,set_aside,message");
+            "robot_y_m,robot_z_m,failed_plans,status,outcome,message");
   EXPECT_EQ(l[1], std::string("12.5,257.5,38.5,40.5,258.25,38.5,40.25,255.75,39.25,43.25,3,") +
                       traj::toString(traj::PlanStatus::kGoalUnreachable) +
-                      R"(,1,"goal in an occupied cell, ""inflated""")");
+                      R"(,counted_reached,"goal in an occupied cell, ""inflated""")");
   EXPECT_EQ(l[2], std::string("20,257.5,38.5,40.5,258.25,38.5,40.25,255.75,39.25,43.25,3,") +
-                      traj::toString(traj::PlanStatus::kCorridorFailed) + R"(,0,"no corridor")");
+                      traj::toString(traj::PlanStatus::kCorridorFailed) +
+                      R"(,not_current,"no corridor")");
 }
 
 }  // namespace

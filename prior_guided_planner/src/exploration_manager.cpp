@@ -42,6 +42,18 @@ void ExplorationManagerConfig::validate() const {
   }
 }
 
+const char* toString(GoalRefusal r) {
+  switch (r) {
+    case GoalRefusal::kNotCurrent:
+      return "not_current";
+    case GoalRefusal::kSetAside:
+      return "set_aside";
+    case GoalRefusal::kCountedReached:
+      return "counted_reached";
+  }
+  return "unknown";
+}
+
 const char* toString(ExplorationState s) {
   switch (s) {
     case ExplorationState::kWaitingForData:
@@ -143,13 +155,14 @@ void ExplorationManager::refreshMapProducts() {
   map_dirty_ = false;
 }
 
-bool ExplorationManager::reportGoalUnreachable(const Eigen::Vector3d& goal_world_m, double time_s) {
+GoalRefusal ExplorationManager::reportGoalUnreachable(const Eigen::Vector3d& goal_world_m,
+                                                      double time_s) {
   // The goal travels as float64 through ROS and back unchanged; the tolerance only absorbs a
   // conversion, it does not match a neighbouring goal.
   constexpr double kSameGoal_m = 1e-3;
   if (!goal_world_m.allFinite() || !std::isfinite(time_s) || !target_.has_goal ||
       !target_.goal_viewpoint_id || (goal_world_m - target_.goal_world_m).norm() > kSameGoal_m)
-    return false;
+    return GoalRefusal::kNotCurrent;
   const int id = *target_.goal_viewpoint_id;
   const double distance_m = (target_.viewpoint_world_m - last_robot_world_m_).norm();
   const bool near = distance_m <= config_.unreachable_near_m;
@@ -169,7 +182,7 @@ bool ExplorationManager::reportGoalUnreachable(const Eigen::Vector3d& goal_world
      << (near ? " counted as reached, " : " set aside, ") << std::round(10.0 * distance_m) / 10.0
      << " m away";
   pending_message_ = os.str();
-  return true;
+  return near ? GoalRefusal::kCountedReached : GoalRefusal::kSetAside;
 }
 
 bool ExplorationManager::replanDue(double time_s, const RobotPose& robot) const {

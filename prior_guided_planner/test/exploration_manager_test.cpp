@@ -182,14 +182,16 @@ TEST(ExplorationManager, AGoalTheLocalPlannerGaveUpOnIsSetAsideAtOnce) {
   const int first = *m.target().goal_viewpoint_id;
   const Eigen::Vector3d goal = m.target().goal_world_m;
 
-  EXPECT_FALSE(m.reportGoalUnreachable(goal + Eigen::Vector3d(0.5, 0, 0), 0.5));
-  EXPECT_FALSE(m.reportGoalUnreachable(
-      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()), 0.5));
+  EXPECT_EQ(m.reportGoalUnreachable(goal + Eigen::Vector3d(0.5, 0, 0), 0.5),
+            GoalRefusal::kNotCurrent);
+  EXPECT_EQ(m.reportGoalUnreachable(
+                Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()), 0.5),
+            GoalRefusal::kNotCurrent);
   m.update(0.5, at(start));
   EXPECT_EQ(*m.target().goal_viewpoint_id, first);
   EXPECT_EQ(m.inputStats().goals_refused, 0u);
 
-  ASSERT_TRUE(m.reportGoalUnreachable(goal, 0.6));
+  ASSERT_EQ(m.reportGoalUnreachable(goal, 0.6), GoalRefusal::kSetAside);
   const ExplorationTarget& t = m.update(0.7, at(start));
   EXPECT_TRUE(t.replanned);
   ASSERT_EQ(t.state, ExplorationState::kExploring) << t.message;
@@ -228,7 +230,7 @@ TEST(ExplorationManager, AGoalRefusedNearTheVehicleCountsItsViewpointAsReached) 
   // Hovering 2 m from the viewpoint (out of target_reached_m), the goal unchanged.
   const Eigen::Vector3d beside = viewpoint - 2.0 * (viewpoint - start).normalized();
   ASSERT_EQ(*m.update(0.1, at(beside)).goal_viewpoint_id, refused);
-  ASSERT_TRUE(m.reportGoalUnreachable(m.target().goal_world_m, 0.2));
+  ASSERT_EQ(m.reportGoalUnreachable(m.target().goal_world_m, 0.2), GoalRefusal::kCountedReached);
   const ExplorationTarget& t = m.update(0.3, at(beside));
   EXPECT_TRUE(t.replanned);
   EXPECT_NE(t.message.find("counted as reached"), std::string::npos) << t.message;
@@ -252,7 +254,7 @@ TEST(ExplorationManager, AGoalRefusedNearTheVehicleCountsItsViewpointAsReached) 
   scanCorridor(far);
   far.update(0.0, at(start));
   ASSERT_GT((far.target().viewpoint_world_m - start).norm(), 3.0);
-  ASSERT_TRUE(far.reportGoalUnreachable(far.target().goal_world_m, 0.1));
+  ASSERT_EQ(far.reportGoalUnreachable(far.target().goal_world_m, 0.1), GoalRefusal::kSetAside);
   EXPECT_NE(far.update(0.2, at(start)).message.find("set aside"), std::string::npos);
   EXPECT_EQ(far.inputStats().goals_refused_near, 0u);
 }
@@ -271,7 +273,7 @@ TEST(ExplorationManager, EveryGoalRefusedEndsTheExplorationWithTheLeftoversNamed
   m.update(time, at(start));
   while (m.target().state != ExplorationState::kFinished && time < 1000.0) {
     if (m.target().has_goal) {
-      EXPECT_TRUE(m.reportGoalUnreachable(m.target().goal_world_m, time));
+      EXPECT_NE(m.reportGoalUnreachable(m.target().goal_world_m, time), GoalRefusal::kNotCurrent);
     }
     time += 0.5;
     m.update(time, at(start));

@@ -53,8 +53,8 @@ struct GoalFailureRecord {
   int failed_plans = 0;
   traj::PlanStatus status = traj::PlanStatus::kGoalUnreachable;  ///< of the last failed plan
   std::string message;  ///< the local planner's reason for that plan
-  /// The goal was still the planner's current one, so its viewpoint was set aside.
-  bool set_aside = false;
+  /// What the exploration planner made of it (kNotCurrent: it had moved on to another goal).
+  planner::GoalRefusal outcome = planner::GoalRefusal::kNotCurrent;
 };
 
 /// What the mission did; filled as it flies.

@@ -108,6 +108,14 @@ struct ExplorationManagerConfig {
 enum class ExplorationState { kWaitingForData, kExploring, kFinished, kStuck };
 const char* toString(ExplorationState s);
 
+/// What reportGoalUnreachable made of a goal the local planner gave up on.
+enum class GoalRefusal {
+  kNotCurrent,      ///< not the current goal (or not finite): nothing changed
+  kSetAside,        ///< its viewpoint is set aside for unreachable_retry_s
+  kCountedReached,  ///< its viewpoint lies within unreachable_near_m: counted as reached
+};
+const char* toString(GoalRefusal r);
+
 /// What the local trajectory planner gets.
 struct ExplorationTarget {
   ExplorationState state = ExplorationState::kWaitingForData;
@@ -162,9 +170,8 @@ class ExplorationManager {
   /// that is the current goal, its viewpoint is set aside for unreachable_retry_s at once (the
   /// no-progress watchdog would wait target_progress_timeout_s), or counts as reached when it
   /// lies within unreachable_near_m of the vehicle's last update, and the next update() replans.
-  /// Returns false (and does nothing) for a goal that is no longer the current one or a
-  /// non-finite one.
-  bool reportGoalUnreachable(const Eigen::Vector3d& goal_world_m, double time_s);
+  /// A goal that is no longer the current one, or a non-finite one, changes nothing.
+  GoalRefusal reportGoalUnreachable(const Eigen::Vector3d& goal_world_m, double time_s);
 
   /// Replans when due and returns the current target. time_s must not go backwards (else the
   /// update is refused with a message, no crash). Terminates (kFinished) when no viewpoint
