@@ -167,7 +167,7 @@ GoalRefusal ExplorationManager::reportGoalUnreachable(const Eigen::Vector3d& goa
   const double distance_m = (target_.viewpoint_world_m - last_robot_world_m_).norm();
   const bool near = distance_m <= config_.unreachable_near_m;
   if (near) {
-    (opening_look_at_.count(id) ? reached_opening_ids_ : reached_viewpoint_ids_).insert(id);
+    markReached(id);
     ++stats_.goals_refused_near;
   } else {
     setAside(id, time_s);
@@ -208,10 +208,7 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   // A target the robot reached is not planned for again.
   if (target_.has_goal && target_.goal_viewpoint_id &&
       (robot.position_world_m - target_.viewpoint_world_m).norm() <= config_.target_reached_m) {
-    if (opening_look_at_.count(*target_.goal_viewpoint_id))
-      reached_opening_ids_.insert(*target_.goal_viewpoint_id);
-    else
-      reached_viewpoint_ids_.insert(*target_.goal_viewpoint_id);
+    markReached(*target_.goal_viewpoint_id);
   }
 
   for (auto it = set_aside_until_s_.begin(); it != set_aside_until_s_.end();)
@@ -427,6 +424,10 @@ bool ExplorationManager::checkProgress(double time_s) {
   setAside(progress_->viewpoint_id, time_s);
   progress_.reset();
   return false;
+}
+
+void ExplorationManager::markReached(int id) {
+  (opening_look_at_.count(id) ? reached_opening_ids_ : reached_viewpoint_ids_).insert(id);
 }
 
 void ExplorationManager::setAside(int id, double time_s) {

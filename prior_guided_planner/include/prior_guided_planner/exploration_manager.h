@@ -210,6 +210,8 @@ class ExplorationManager {
   bool withinGoalReach(const Eigen::Vector3d& from, const Eigen::Vector3d& to) const;
   /// Near a goal the local planner gave up on (reportGoalUnreachable), within its retry time.
   bool refusedGoal(const Eigen::Vector3d& goal_world_m) const;
+  /// Viewpoint (or opening) `id` is not planned for again while it lives.
+  void markReached(int id);
   /// Sets viewpoint `id` aside until time_s + unreachable_retry_s; gives it up on its
   /// unreachable_attempts-th time.
   void setAside(int id, double time_s);
