@@ -56,8 +56,11 @@ struct ExplorationManagerConfig {
   /// robot stands next to shows the LiDAR a cone of the room behind it, seen from close and so
   /// well observed: the room keeps no surface viewpoint and was only an opening, toured once
   /// nothing else was left (seen: a guided flight turning round 1.5 m from the door of the last
-  /// room of the small indoor world, then crossing the building back to it at the end). 0: off.
-  double near_openings_radius_m = 8.0;
+  /// room of the small indoor world, then crossing the building back to it at the end). 0: off,
+  /// the default: in a 500 m cave it made both flights slower (guided 430.7 -> 479.4 s,
+  /// prior-free 487.6 -> 601.4 s), in the paper-size building too (guided 671.5 -> 689.9 s,
+  /// prior-free 571.9 -> 584.0 s); 8 m mended only that small-indoor flight (84.5 -> 78.0 s).
+  double near_openings_radius_m = 0.0;
   /// ... and only those of at least this many cells: a door to an unseen room borders the
   /// unknown with the whole cone the LiDAR saw through it (247 cells at the small indoor
   /// world's last room), the shadow of a car or a pillar in the open with a few (6 to 42 in the
