@@ -170,7 +170,6 @@ bool ExplorationMission::step() {
       CpuTimer timer(log_.planner_cpu_s);
       record.outcome = exploration_->reportGoalUnreachable(failure->goal_world_m, t);
     }
-    if (record.outcome != planner::GoalRefusal::kNotCurrent) ++log_.goals_given_up;
     log_.goal_failures.push_back(std::move(record));
   }
   const traj::ReferenceSample sample = trajectory_.sample(t);

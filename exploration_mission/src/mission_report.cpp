@@ -115,7 +115,10 @@ MissionReport makeReport(const ExplorationMission& mission, const std::string& w
   r.replans = log.replans;
   r.emergency_stops = log.emergency_stops;
   r.planner_cycles = log.planner_cycles;
-  r.goals_given_up = log.goals_given_up;
+  // Those that were still the planner's current goal (set aside or counted as reached).
+  r.goals_given_up = static_cast<size_t>(
+      std::count_if(log.goal_failures.begin(), log.goal_failures.end(),
+                    [](const auto& f) { return f.outcome != planner::GoalRefusal::kNotCurrent; }));
   r.viewpoints_given_up = mission.explorationManager().inputStats().viewpoints_given_up;
   r.max_tracking_error_m = log.max_tracking_error_m;
   r.rms_tracking_error_m = log.rms_tracking_error_m;
@@ -227,8 +230,7 @@ std::string toMarkdown(const MissionReport& r) {
   o << "| replans / emergency stops / planner cycles | " << r.replans << " / " << r.emergency_stops
     << " / " << r.planner_cycles << " |\n"
     << "| goals the local planner gave up on | " << r.goals_given_up << " |\n"
-    << "| viewpoints left unvisited, given up as unreachable | " << r.viewpoints_given_up
-    << " |\n"
+    << "| viewpoints left unvisited, given up as unreachable | " << r.viewpoints_given_up << " |\n"
     << "| tracking error max / RMS | " << fmt(r.max_tracking_error_m, 2) << " / "
     << fmt(r.rms_tracking_error_m, 2) << " m |\n"
     << "| closest approach to the world (centre; collision radius 0.25 m) | "

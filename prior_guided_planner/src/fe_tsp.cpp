@@ -47,8 +47,8 @@ CostMatrix buildFeTspMatrix(const RobotPose& robot, const std::vector<PlanViewpo
     double turn_s = 0.0;
     const Eigen::Vector2d to_v = va.position_world_m.head<2>() - robot.position_world_m.head<2>();
     if (moving && to_v.norm() > 1e-6) {
-      const double cosine = std::clamp(to_v.normalized().dot(v_xy.normalized()), -1.0, 1.0);
-      turn_s = config.direction_change_cost_s_per_rad * std::acos(cosine);
+      turn_s = config.direction_change_cost_s_per_rad *
+               std::abs(angleDiff(std::atan2(to_v.y(), to_v.x()), std::atan2(v_xy.y(), v_xy.x())));
     }
     c(0, a + 1) =
         l < kUnreachable ? std::max(l / config.v_max_mps, dyaw_s) + urg + turn_s : kUnreachable;

@@ -69,9 +69,7 @@ struct MissionLog {
   std::vector<TrajectoryRecord> trajectory;
   std::vector<HypothesisRecord> registrations;
   size_t replans = 0, emergency_stops = 0, planner_cycles = 0;
-  /// Goals the local planner gave up on while they were the planner's current goal.
-  size_t goals_given_up = 0;
-  std::vector<GoalFailureRecord> goal_failures;  ///< every goal it gave up on
+  std::vector<GoalFailureRecord> goal_failures;  ///< every goal the local planner gave up on
   /// Distance between the reference and the true position, over the flight (RMS set at the end).
   double max_tracking_error_m = 0.0, rms_tracking_error_m = 0.0;
   /// Closest the vehicle's centre came to the world's surface (sampled at 10 Hz, capped at 2 m;
