@@ -39,6 +39,7 @@ CostMatrix buildFeTspMatrix(const RobotPose& robot, const std::vector<PlanViewpo
   // A terminal gives the tour its direction (the guidance); without one, the robot's motion does.
   const bool moving = !term && config.direction_change_cost_s_per_rad > 0.0 && v_xy.allFinite() &&
                       v_xy.norm() >= std::max(config.direction_min_speed_mps, 1e-6);
+  const double heading_rad = moving ? std::atan2(v_xy.y(), v_xy.x()) : 0.0;
   for (int a = 0; a < n; ++a) {
     const PlanViewpoint& va = viewpoints.at(selected[a]);
     const double l = path_length_m(kRobotNode, selected[a]);
@@ -48,7 +49,7 @@ CostMatrix buildFeTspMatrix(const RobotPose& robot, const std::vector<PlanViewpo
     const Eigen::Vector2d to_v = va.position_world_m.head<2>() - robot.position_world_m.head<2>();
     if (moving && to_v.norm() > 1e-6) {
       turn_s = config.direction_change_cost_s_per_rad *
-               std::abs(angleDiff(std::atan2(to_v.y(), to_v.x()), std::atan2(v_xy.y(), v_xy.x())));
+               std::abs(angleDiff(std::atan2(to_v.y(), to_v.x()), heading_rad));
     }
     c(0, a + 1) =
         l < kUnreachable ? std::max(l / config.v_max_mps, dyaw_s) + urg + turn_s : kUnreachable;

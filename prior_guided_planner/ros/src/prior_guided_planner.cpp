@@ -275,11 +275,8 @@ void PriorGuidedPlannerNode::onUnreachableGoal(const geometry_msgs::PointStamped
   // An older goal than the current one says nothing about the current one (kNotCurrent).
   const GoalRefusal r = manager_->reportGoalUnreachable(goal, ros::Time::now().toSec());
   if (r != GoalRefusal::kNotCurrent)
-    ROS_INFO(
-        "prior_guided_planner: the local planner gave up on (%.2f, %.2f, %.2f): its "
-        "viewpoint is %s",
-        goal.x(), goal.y(), goal.z(),
-        r == GoalRefusal::kSetAside ? "set aside" : "counted as reached (near the vehicle)");
+    ROS_INFO("prior_guided_planner: the local planner gave up on (%.2f, %.2f, %.2f): %s", goal.x(),
+             goal.y(), goal.z(), toString(r));
 }
 
 void PriorGuidedPlannerNode::onTimer(const ros::TimerEvent&) {
