@@ -2,6 +2,7 @@
 #include "prior_guided_planner/hierarchical_planner.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "efs_common/config_check.h"
@@ -15,6 +16,7 @@ void HierarchicalPlannerConfig::validate() const {
   fe_tsp.validate();
   greedy.validate();
   requireInRange("min_confidence", min_confidence, 0.0, 1e9);
+  requireInRange("prior_free_searched_viewpoints", prior_free_searched_viewpoints, 1, 100000);
   requireInRange("prior_free_max_viewpoints", prior_free_max_viewpoints, 1, 100000);
 }
 
@@ -144,28 +146,47 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) {
   return res;
 }
 
+double priorFreeEdgeEstimate_m(const Eigen::Vector3d& a_world_m, double robot_to_a_m,
+                               const Eigen::Vector3d& b_world_m, double robot_to_b_m) {
+  return std::max((a_world_m - b_world_m).norm(), std::abs(robot_to_a_m - robot_to_b_m));
+}
+
+// The tour covers every reachable viewpoint up to prior_free_max_viewpoints, though only the
+// nearest prior_free_searched_viewpoints have searched lengths between them. A tour over the
+// searched ones alone does not see the work beyond them, and what it leaves out shifts as the
+// robot moves: flying east drops far western viewpoints, the western side looks short and the
+// tour turns west, and back. Seen on the paper-size cave: minutes of 2 s flips between targets
+// 78 m west and 49 m east, the vehicle within 3 m.
 LocalTour HierarchicalPlanner::priorFreeTour(const PlanningInput& in,
                                              const std::vector<double>& robot_len) const {
   const int nv = static_cast<int>(in.viewpoints.size());
-  std::vector<int> near;
+  std::vector<int> toured;
   std::vector<int> unreachable;
-  for (int i = 0; i < nv; ++i) (robot_len[i] < kUnreachable ? near : unreachable).push_back(i);
-  if (static_cast<int>(near.size()) > config_.prior_free_max_viewpoints) {
-    std::stable_sort(near.begin(), near.end(),
-                     [&](int a, int b) { return robot_len[a] < robot_len[b]; });
-    near.resize(config_.prior_free_max_viewpoints);
-  } else if (unreachable.empty()) {
+  for (int i = 0; i < nv; ++i) (robot_len[i] < kUnreachable ? toured : unreachable).push_back(i);
+  const int n_searched = config_.prior_free_searched_viewpoints;
+  if (static_cast<int>(toured.size()) <= n_searched && unreachable.empty())
     return solvePriorFreeTour(in.robot, in.viewpoints, in.path_length_m, config_.fe_tsp);
+  // Sorted by L(X_r, V) only when some are left unsearched (the first n_searched are searched):
+  // the ATSP's answer may depend on the order of equal choices.
+  const bool all_searched = static_cast<int>(toured.size()) <= n_searched;
+  if (!all_searched) {
+    std::stable_sort(toured.begin(), toured.end(),
+                     [&](int a, int b) { return robot_len[a] < robot_len[b]; });
+    if (static_cast<int>(toured.size()) > config_.prior_free_max_viewpoints)
+      toured.resize(config_.prior_free_max_viewpoints);
   }
   std::vector<PlanViewpoint> sub;
-  for (int i : near) sub.push_back(in.viewpoints[i]);
+  for (int i : toured) sub.push_back(in.viewpoints[i]);
   const PathLengthFn sub_len = [&](int a, int b) {
-    return in.path_length_m(a == kRobotNode ? kRobotNode : near[a],
-                            b == kRobotNode ? kRobotNode : near[b]);
+    if (all_searched || a == kRobotNode || b == kRobotNode || (a < n_searched && b < n_searched))
+      return in.path_length_m(a == kRobotNode ? kRobotNode : toured[a],
+                              b == kRobotNode ? kRobotNode : toured[b]);
+    return priorFreeEdgeEstimate_m(sub[a].position_world_m, robot_len[toured[a]],
+                                   sub[b].position_world_m, robot_len[toured[b]]);
   };
   LocalTour t = solvePriorFreeTour(in.robot, sub, sub_len, config_.fe_tsp);
-  for (int& v : t.viewpoints) v = near[v];
-  for (int& v : t.unreachable_viewpoints) v = near[v];
+  for (int& v : t.viewpoints) v = toured[v];
+  for (int& v : t.unreachable_viewpoints) v = toured[v];
   t.unreachable_viewpoints.insert(t.unreachable_viewpoints.end(), unreachable.begin(),
                                   unreachable.end());
   std::sort(t.unreachable_viewpoints.begin(), t.unreachable_viewpoints.end());

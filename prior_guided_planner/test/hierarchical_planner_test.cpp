@@ -205,9 +205,9 @@ TEST(HierarchicalPlanner, NoPriorMeansPriorFreeAndModesAreSelectable) {
   EXPECT_DOUBLE_EQ(cfg.fe_tsp.v_max_mps, 4.0);
 }
 
-// The prior-free tour covers the nearest viewpoints only and never asks for path lengths
-// between the others; unreachable ones are reported, not toured.
-TEST(HierarchicalPlanner, PriorFreeTourIsBoundedToTheNearestViewpoints) {
+// Path lengths of the prior-free tour are searched among the nearest viewpoints only; the tour
+// covers up to prior_free_max_viewpoints of them; unreachable ones are reported, not toured.
+TEST(HierarchicalPlanner, PriorFreeTourSearchesLengthsAmongTheNearestViewpointsOnly) {
   PlanningInput in;
   in.robot.position_world_m = Eigen::Vector3d(0, 0, 1);
   for (int i = 0; i < 30; ++i)
@@ -224,22 +224,60 @@ TEST(HierarchicalPlanner, PriorFreeTourIsBoundedToTheNearestViewpoints) {
     return (pa - pb).norm();
   };
   HierarchicalPlannerConfig c;
-  c.prior_free_max_viewpoints = 10;
+  c.prior_free_searched_viewpoints = 10;
+  c.prior_free_max_viewpoints = 20;
   const PlanningResult r = HierarchicalPlanner(c).plan(in);
   ASSERT_EQ(r.status, PlanningStatus::kOk);
   EXPECT_EQ(r.mode_used, BaselineMode::kPriorFree);
-  ASSERT_EQ(r.tour.viewpoints.size(), 10u);
-  for (int v : r.tour.viewpoints) EXPECT_LT(v, 10);
+  ASSERT_EQ(r.tour.viewpoints.size(), 20u);
+  for (int v : r.tour.viewpoints) EXPECT_LT(v, 20);
   EXPECT_EQ(r.tour.viewpoints.front(), 0);  // along the line, nearest first
   EXPECT_EQ(far_pairs, 0);
   EXPECT_EQ(r.tour.unreachable_viewpoints, std::vector<int>{29});
-  // Unbounded (large enough): every reachable viewpoint is toured.
-  c.prior_free_max_viewpoints = 100;
+  // By default every reachable viewpoint is toured, the far ones with estimated lengths.
+  c.prior_free_max_viewpoints = HierarchicalPlannerConfig().prior_free_max_viewpoints;
   const PlanningResult all = HierarchicalPlanner(c).plan(in);
   EXPECT_EQ(all.tour.viewpoints.size(), 29u);
   EXPECT_EQ(all.tour.unreachable_viewpoints, std::vector<int>{29});
+  EXPECT_EQ(far_pairs, 0);
+  c.prior_free_searched_viewpoints = 0;
+  EXPECT_THROW(HierarchicalPlanner{c}, ConfigError);
+  c.prior_free_searched_viewpoints = 10;
   c.prior_free_max_viewpoints = 0;
   EXPECT_THROW(HierarchicalPlanner{c}, ConfigError);
+}
+
+// The robot in a passage with 8 m of frontiers ahead (+x) and 58 m behind. The whole tour goes
+// ahead first; one over the 10 nearest only sees 2 m behind and turns back (the paper-size cave
+// livelock: the side it turns to changes as the robot moves).
+TEST(HierarchicalPlanner, PriorFreeTourWeighsTheViewpointsBeyondTheSearchedOnes) {
+  PlanningInput in;
+  in.robot.position_world_m = Eigen::Vector3d(0, 0, 1);
+  for (int x = 1; x <= 8; ++x) in.viewpoints.push_back(PlanViewpoint{x, {x + 0.0, 0, 1}, 0.0});
+  for (int x = -3; x >= -60; --x)
+    in.viewpoints.push_back(PlanViewpoint{100 - x, {x + 0.0, 0, 1}, 0.0});
+  const auto vps = in.viewpoints;
+  const Eigen::Vector3d robot = in.robot.position_world_m;
+  in.path_length_m = [&](int a, int b) {
+    const Eigen::Vector3d pa = a == kRobotNode ? robot : vps[a].position_world_m;
+    const Eigen::Vector3d pb = b == kRobotNode ? robot : vps[b].position_world_m;
+    return (pa - pb).norm();
+  };
+  const auto first_x = [&](const HierarchicalPlannerConfig& c) {
+    const PlanningResult r = HierarchicalPlanner(c).plan(in);
+    EXPECT_EQ(r.status, PlanningStatus::kOk);
+    EXPECT_FALSE(r.tour.viewpoints.empty());
+    return r.tour.viewpoints.empty() ? 0.0 : vps[r.tour.viewpoints.front()].position_world_m.x();
+  };
+  HierarchicalPlannerConfig c;
+  c.prior_free_searched_viewpoints = 10;
+  EXPECT_GT(first_x(c), 0.0);
+  c.prior_free_max_viewpoints = 10;  // the tour over the searched ones alone
+  EXPECT_LT(first_x(c), 0.0);
+  // The estimate: exact along one passage away from the robot, a lower bound otherwise.
+  EXPECT_DOUBLE_EQ(priorFreeEdgeEstimate_m({10, 0, 0}, 10.0, {30, 0, 0}, 30.0), 20.0);
+  EXPECT_DOUBLE_EQ(priorFreeEdgeEstimate_m({10, 0, 0}, 10.0, {14, 3, 0}, 25.0), 15.0);
+  EXPECT_DOUBLE_EQ(priorFreeEdgeEstimate_m({10, 0, 0}, 10.0, {-10, 0, 0}, 10.0), 20.0);
 }
 
 }  // namespace

@@ -30,9 +30,13 @@ struct HierarchicalPlannerConfig {
   GreedyPriorConfig greedy;
   /// Hypotheses with a confidence below this are not used (and reported as rejected).
   double min_confidence = 0.0;
-  /// The prior-free tour (and fallback) covers at most this many viewpoints, the nearest by
-  /// L(X_r, V); the others wait for a later plan. Bounds the O(N^2) path lengths of the tour.
-  int prior_free_max_viewpoints = 40;
+  /// Path lengths between viewpoints of the prior-free tour (and fallback) are searched among
+  /// this many viewpoints, the nearest by L(X_r, V): it bounds the O(N^2) searches. An edge with
+  /// a farther viewpoint is estimated (priorFreeEdgeEstimate_m) instead of left out.
+  int prior_free_searched_viewpoints = 40;
+  /// The prior-free tour covers at most this many viewpoints, the nearest by L(X_r, V): it
+  /// bounds the ATSP. Beyond it, what the tour cannot see may bias its direction (below).
+  int prior_free_max_viewpoints = 300;
   /// Reuse a hypothesis' guidepoint sequences while its guidepoints and their states are
   /// unchanged (sequence_memo.h); false solves the MCTS in every plan.
   bool reuse_sequences = true;
@@ -80,6 +84,14 @@ struct PlanningResult {
   /// greedy_prior only: per-viewpoint scores (empty in the other modes or without a prior).
   GreedyPriorScores greedy;
 };
+
+/// An estimate of L(a, b) for prior-free tour edges that are not searched: the larger of two
+/// lower bounds, the straight distance and the triangle inequality through the robot,
+/// |L(X_r, a) - L(X_r, b)|. The second is exact between points of one passage leading away from
+/// the robot, which is where a cave's far viewpoints lie; it is what makes the tour's first
+/// step weigh the work beyond the searched ones.
+double priorFreeEdgeEstimate_m(const Eigen::Vector3d& a_world_m, double robot_to_a_m,
+                               const Eigen::Vector3d& b_world_m, double robot_to_b_m);
 
 class HierarchicalPlanner {
  public:
