@@ -23,6 +23,9 @@ void CorridorConfig::validate() const {
   requireInRange("corridor.clearance_m", clearance_m, 0.0, 5.0);
   requireInRange("corridor.box_margin_m", box_margin_m, 0.1, 50.0);
   requireInRange("corridor.max_seed_length_m", max_seed_length_m, 0.1, 100.0);
+  requireInRange("corridor.blind_depth_m", blind_depth_m, 0.0, 100.0);
+  requireThat(blind_depth_m == 0.0 || blind_depth_m > clearance_m, "corridor.blind_depth_m",
+              "must be 0 (off) or more than corridor.clearance_m, else the path itself is blocked");
   requireInRange("corridor.iterations", iterations, 1, 20);
   requireInRange("corridor.initial_radius_m", initial_radius_m, 1e-3, 10.0);
   requireInRange("corridor.mvie_newton_steps", mvie_newton_steps, 0, 200);
@@ -75,6 +78,20 @@ CorridorResult CorridorBuilder::build(const std::vector<Eigen::Vector3d>& path,
     // Interior cells can be skipped when the clearance spans two cells (see local_grid.h).
     grid.occupiedCentersInBox(lo.array() - cfg_.clearance_m, hi.array() + cfg_.clearance_m,
                               obstacles, cfg_.clearance_m >= 2.0 * grid.resolution());
+    if (cfg_.blind_depth_m > 0.0) {
+      // The seed's height above each column (at the nearest point of its horizontal projection).
+      const Eigen::Vector2d axy = a.head<2>(), dxy = b.head<2>() - a.head<2>();
+      const double len_sq = dxy.squaredNorm();
+      const auto seed_z = [&](double x, double y) {
+        const double t = len_sq > 1e-12
+                             ? std::clamp((Eigen::Vector2d(x, y) - axy).dot(dxy) / len_sq, 0.0, 1.0)
+                             : 0.0;
+        return len_sq > 1e-12 ? a.z() + t * (b.z() - a.z()) : std::min(a.z(), b.z());
+      };
+      grid.unobservedTopsBelow(
+          lo.array() - cfg_.clearance_m, hi.array() + cfg_.clearance_m,
+          [&](double x, double y) { return seed_z(x, y) - cfg_.blind_depth_m; }, obstacles);
+    }
     bool in_collision = false;
     res.polytopes.push_back(
         inflateSegment(a, b, obstacles, lo.cwiseMax(wlo).cwiseMin(a.cwiseMin(b)),

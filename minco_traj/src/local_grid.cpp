@@ -442,16 +442,22 @@ bool LocalGrid::isInterior(const VoxelKey& k) const {
   return true;
 }
 
-void LocalGrid::occupiedCentersInBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                                     std::vector<Eigen::Vector3d>& out, bool surface_only) const {
+std::pair<VoxelKey, VoxelKey> LocalGrid::keysInBox(const Eigen::Vector3d& lo,
+                                                   const Eigen::Vector3d& hi) const {
   const double res = cfg_.resolution_m;
   const VoxelKey wmax = maxKey();
-  const int x0 = std::max(min_key_.x, static_cast<int>(std::ceil(lo.x() / res - 0.5)));
-  const int y0 = std::max(min_key_.y, static_cast<int>(std::ceil(lo.y() / res - 0.5)));
-  const int z0 = std::max(min_key_.z, static_cast<int>(std::ceil(lo.z() / res - 0.5)));
-  const int x1 = std::min(wmax.x, static_cast<int>(std::floor(hi.x() / res - 0.5)));
-  const int y1 = std::min(wmax.y, static_cast<int>(std::floor(hi.y() / res - 0.5)));
-  const int z1 = std::min(wmax.z, static_cast<int>(std::floor(hi.z() / res - 0.5)));
+  return {{std::max(min_key_.x, static_cast<int>(std::ceil(lo.x() / res - 0.5))),
+           std::max(min_key_.y, static_cast<int>(std::ceil(lo.y() / res - 0.5))),
+           std::max(min_key_.z, static_cast<int>(std::ceil(lo.z() / res - 0.5)))},
+          {std::min(wmax.x, static_cast<int>(std::floor(hi.x() / res - 0.5))),
+           std::min(wmax.y, static_cast<int>(std::floor(hi.y() / res - 0.5))),
+           std::min(wmax.z, static_cast<int>(std::floor(hi.z() / res - 0.5)))}};
+}
+
+void LocalGrid::occupiedCentersInBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                                     std::vector<Eigen::Vector3d>& out, bool surface_only) const {
+  const auto [k0, k1] = keysInBox(lo, hi);
+  const int x0 = k0.x, y0 = k0.y, z0 = k0.z, x1 = k1.x, y1 = k1.y, z1 = k1.z;
   if (z1 < z0) return;
   const int iz0 = posMod(z0, nz_);
   for (int x = x0; x <= x1; ++x)
@@ -464,6 +470,27 @@ void LocalGrid::occupiedCentersInBox(const Eigen::Vector3d& lo, const Eigen::Vec
           if (!surface_only || !isInterior(k)) out.push_back(center(k));
         }
         if (++iz == nz_) iz = 0;
+      }
+    }
+}
+
+void LocalGrid::unobservedTopsBelow(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                                    const std::function<double(double, double)>& top_z_m,
+                                    std::vector<Eigen::Vector3d>& out) const {
+  const auto [k0, k1] = keysInBox(lo, hi);
+  for (int x = k0.x; x <= k1.x; ++x)
+    for (int y = k0.y; y <= k1.y; ++y) {
+      const Eigen::Vector3d column = center(VoxelKey{x, y, 0});
+      const double top = top_z_m(column.x(), column.y());
+      if (!std::isfinite(top)) continue;
+      // Strictly below top: the centre (z + 0.5) res < top.
+      const int zt = std::min(k1.z, static_cast<int>(std::ceil(top / cfg_.resolution_m - 0.5)) - 1);
+      for (int z = zt; z >= k0.z; --z) {
+        const VoxelKey k{x, y, z};
+        if (!cells_[index(k)].observed) {
+          out.push_back(center(k));
+          break;
+        }
       }
     }
 }

@@ -154,10 +154,51 @@ TEST(Corridor, FromGridAlongAStarPath) {
   }
 }
 
+// Observed free space from z = 1.5 m up, nothing seen below (a LiDAR that does not look down).
+// The polytopes stay within blind_depth_m - clearance_m of the path over the unseen part; over
+// observed free space, or with the rule off, they reach down to the box.
+TEST(Corridor, UnobservedSpaceFarBelowThePathIsAnObstacle) {
+  LocalGridConfig gc;
+  gc.size_x_m = 12;
+  gc.size_y_m = 12;
+  gc.size_z_m = 4;
+  LocalGrid grid(gc, Eigen::Vector3d(0, 0, 2));
+  for (double x = -5.95; x < 6; x += 0.1)
+    for (double y = -5.95; y < 6; y += 0.1)
+      for (double z = 1.55; z < 4; z += 0.1) grid.setFree({x, y, z});
+  const std::vector<Eigen::Vector3d> path = {{-3, 0, 2.2}, {3, 0, 2.0}};
+  CorridorConfig cc;
+  cc.clearance_m = 0.3;
+  cc.blind_depth_m = 0.7;
+  const auto below = [](const Polytope& p, double depth_m) {
+    return Eigen::Vector3d(0.5 * (p.seed_start_m + p.seed_end_m) - Eigen::Vector3d(0, 0, depth_m));
+  };
+  const auto blind = CorridorBuilder(cc).build(path, grid);
+  ASSERT_TRUE(blind.ok()) << toString(blind.status);
+  ASSERT_EQ(blind.polytopes.size(), 2u);
+  for (const auto& p : blind.polytopes) {
+    EXPECT_TRUE(p.contains(p.seed_start_m) && p.contains(p.seed_end_m));
+    EXPECT_FALSE(p.contains(below(p, cc.blind_depth_m - cc.clearance_m + 0.15)));
+    EXPECT_TRUE(p.contains(below(p, 0.2)));
+  }
+  cc.blind_depth_m = 0.0;
+  for (const auto& p : CorridorBuilder(cc).build(path, grid).polytopes)
+    EXPECT_TRUE(p.contains(below(p, 0.9)));
+  cc.blind_depth_m = 0.7;
+  grid.setAllFree();
+  for (const auto& p : CorridorBuilder(cc).build(path, grid).polytopes)
+    EXPECT_TRUE(p.contains(below(p, 0.9)));
+}
+
 TEST(Corridor, ConfigValidation) {
   CorridorConfig c;
   c.iterations = 0;
   EXPECT_THROW(c.validate(), ConfigError);
+  c = CorridorConfig();
+  c.blind_depth_m = c.clearance_m;  // the path itself would be blocked
+  EXPECT_THROW(c.validate(), ConfigError);
+  c.blind_depth_m = 0.0;
+  EXPECT_NO_THROW(c.validate());
 }
 
 }  // namespace

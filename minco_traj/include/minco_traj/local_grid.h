@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <unordered_map>
 #include <utility>
@@ -113,6 +114,12 @@ class LocalGrid {
   /// Distance from p to the nearest occupied cell centre, if one lies within radius_m.
   std::optional<double> nearestOccupiedDistance(const Eigen::Vector3d& p_world_m,
                                                 double radius_m) const;
+  /// For each column of cells whose centres lie in [lo, hi] (x, y), the centre of the highest
+  /// unobserved cell below top_z_m(x, y) (and at least lo.z): the top of what a LiDAR that does
+  /// not look down has not seen beneath a path.
+  void unobservedTopsBelow(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                           const std::function<double(double, double)>& top_z_m,
+                           std::vector<Eigen::Vector3d>& out) const;
   /// Centres of occupied cells whose centres lie in [lo, hi]. With surface_only, cells whose six
   /// face neighbours are all occupied are left out (they cannot be nearer to free space than
   /// their neighbours by more than one cell).
@@ -173,6 +180,9 @@ class LocalGrid {
   VoxelKey min_key_;
   /// Everything a ray step, an inflation stamp or a search step reads of one cell, together: a
   /// ray crosses cells a whole y-z plane apart, and one array per field cost a cache miss each.
+  /// Keys of the window's cells whose centres lie in [lo, hi] (empty when a max < its min).
+  std::pair<VoxelKey, VoxelKey> keysInBox(const Eigen::Vector3d& lo,
+                                          const Eigen::Vector3d& hi) const;
   struct Cell {
     float logodds = 0.f;
     uint32_t scan_stamp = 0;

@@ -51,6 +51,7 @@ MincoTrajNodeConfig loadMincoTrajNodeConfig(const ros::NodeHandle& private_nh) {
   p.get("corridor/clearance_m", s.planner.corridor.clearance_m);
   p.get("corridor/box_margin_m", s.planner.corridor.box_margin_m);
   p.get("corridor/max_seed_length_m", s.planner.corridor.max_seed_length_m);
+  p.get("corridor/blind_depth_m", s.planner.corridor.blind_depth_m);
   p.get("optimizer/v_max_mps", s.planner.optimizer.v_max_mps);
   p.get("optimizer/a_max_mps2", s.planner.optimizer.a_max_mps2);
   p.get("optimizer/weight_time", s.planner.optimizer.weight_time);
