@@ -83,10 +83,9 @@ CorridorResult CorridorBuilder::build(const std::vector<Eigen::Vector3d>& path,
       const Eigen::Vector2d axy = a.head<2>(), dxy = b.head<2>() - a.head<2>();
       const double len_sq = dxy.squaredNorm();
       const auto seed_z = [&](double x, double y) {
-        const double t = len_sq > 1e-12
-                             ? std::clamp((Eigen::Vector2d(x, y) - axy).dot(dxy) / len_sq, 0.0, 1.0)
-                             : 0.0;
-        return len_sq > 1e-12 ? a.z() + t * (b.z() - a.z()) : std::min(a.z(), b.z());
+        if (len_sq <= 1e-12) return std::min(a.z(), b.z());
+        const double t = std::clamp((Eigen::Vector2d(x, y) - axy).dot(dxy) / len_sq, 0.0, 1.0);
+        return a.z() + t * (b.z() - a.z());
       };
       grid.unobservedTopsBelow(
           lo.array() - cfg_.clearance_m, hi.array() + cfg_.clearance_m,

@@ -58,10 +58,12 @@ struct CorridorConfig {
   double box_margin_m = 1.0;       ///< each polytope lies in the seed's bounding box + margin
   double max_seed_length_m = 4.0;  ///< longer path segments are split into several seeds
   /// Unobserved cells more than this below the seed path are obstacles (build from a grid); 0 =
-  /// off, else more than clearance_m. The LiDAR does not look down (Mid-360: 7 deg below the
-  /// horizon), so the ground ahead of a descent is often unseen; a polytope reaching under the
-  /// path let the trajectory dip 0.7 m below it into an unseen rock (paper-size cave, prior-free
-  /// flight, collision at 284 s). With 0.7 the polytope keeps 0.25 m below the path there.
+  /// off, else more than clearance_m. The LiDAR does not look down (the Mid-360, pitched 15 deg,
+  /// sees nothing more than 22 deg below the horizon), so the ground ahead of a descent is often
+  /// unseen; with only occupied cells as obstacles a polytope reached 1 m under the path, and the
+  /// trajectory passed 0.09 m from an unseen rock 1.2 m below and 1.5 m ahead of the vehicle
+  /// (paper-size cave, prior-free flight, collision at 283.8 s). With 0.7 a polytope ends about
+  /// blind_depth_m - clearance_m (0.25 m) below the path over unseen ground.
   double blind_depth_m = 0.7;
   int iterations = 2;             ///< half-space / ellipsoid alternations
   double initial_radius_m = 0.3;  ///< cross radius of the first ellipsoid around the seed

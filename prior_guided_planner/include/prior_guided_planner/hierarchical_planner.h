@@ -35,7 +35,8 @@ struct HierarchicalPlannerConfig {
   /// a farther viewpoint is estimated (priorFreeEdgeEstimate_m) instead of left out.
   int prior_free_searched_viewpoints = 40;
   /// The prior-free tour covers at most this many viewpoints, the nearest by L(X_r, V): it
-  /// bounds the ATSP. Beyond it, what the tour cannot see may bias its direction (below).
+  /// bounds the ATSP. Beyond it, what the tour cannot see may bias its direction (see
+  /// priorFreeTour in hierarchical_planner.cpp).
   int prior_free_max_viewpoints = 300;
   /// Reuse a hypothesis' guidepoint sequences while its guidepoints and their states are
   /// unchanged (sequence_memo.h); false solves the MCTS in every plan.
