@@ -79,17 +79,16 @@ CorridorResult CorridorBuilder::build(const std::vector<Eigen::Vector3d>& path,
     grid.occupiedCentersInBox(lo.array() - cfg_.clearance_m, hi.array() + cfg_.clearance_m,
                               obstacles, cfg_.clearance_m >= 2.0 * grid.resolution());
     if (cfg_.blind_depth_m > 0.0) {
-      // The seed's height above each column (at the nearest point of its horizontal projection).
+      // Below the seed's height at the nearest point of its horizontal projection.
       const Eigen::Vector2d axy = a.head<2>(), dxy = b.head<2>() - a.head<2>();
       const double len_sq = dxy.squaredNorm();
-      const auto seed_z = [&](double x, double y) {
-        if (len_sq <= 1e-12) return std::min(a.z(), b.z());
+      const auto blind_top_z = [&](double x, double y) {
+        if (len_sq <= 1e-12) return std::min(a.z(), b.z()) - cfg_.blind_depth_m;
         const double t = std::clamp((Eigen::Vector2d(x, y) - axy).dot(dxy) / len_sq, 0.0, 1.0);
-        return a.z() + t * (b.z() - a.z());
+        return a.z() + t * (b.z() - a.z()) - cfg_.blind_depth_m;
       };
-      grid.unobservedTopsBelow(
-          lo.array() - cfg_.clearance_m, hi.array() + cfg_.clearance_m,
-          [&](double x, double y) { return seed_z(x, y) - cfg_.blind_depth_m; }, obstacles);
+      grid.unobservedTopsBelow(lo.array() - cfg_.clearance_m, hi.array() + cfg_.clearance_m,
+                               blind_top_z, obstacles);
     }
     bool in_collision = false;
     res.polytopes.push_back(

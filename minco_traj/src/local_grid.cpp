@@ -457,14 +457,13 @@ std::pair<VoxelKey, VoxelKey> LocalGrid::keysInBox(const Eigen::Vector3d& lo,
 void LocalGrid::occupiedCentersInBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                                      std::vector<Eigen::Vector3d>& out, bool surface_only) const {
   const auto [k0, k1] = keysInBox(lo, hi);
-  const int x0 = k0.x, y0 = k0.y, z0 = k0.z, x1 = k1.x, y1 = k1.y, z1 = k1.z;
-  if (z1 < z0) return;
-  const int iz0 = posMod(z0, nz_);
-  for (int x = x0; x <= x1; ++x)
-    for (int y = y0; y <= y1; ++y) {
+  if (k1.z < k0.z) return;
+  const int iz0 = posMod(k0.z, nz_);
+  for (int x = k0.x; x <= k1.x; ++x)
+    for (int y = k0.y; y <= k1.y; ++y) {
       const size_t base = (static_cast<size_t>(posMod(x, nx_)) * ny_ + posMod(y, ny_)) * nz_;
       int iz = iz0;
-      for (int z = z0; z <= z1; ++z) {
+      for (int z = k0.z; z <= k1.z; ++z) {
         if (cells_[base + iz].occupied) {
           const VoxelKey k{x, y, z};
           if (!surface_only || !isInterior(k)) out.push_back(center(k));

@@ -164,21 +164,20 @@ LocalTour HierarchicalPlanner::priorFreeTour(const PlanningInput& in,
   std::vector<int> unreachable;
   for (int i = 0; i < nv; ++i) (robot_len[i] < kUnreachable ? toured : unreachable).push_back(i);
   const int n_searched = config_.prior_free_searched_viewpoints;
-  if (static_cast<int>(toured.size()) <= n_searched && unreachable.empty())
-    return solvePriorFreeTour(in.robot, in.viewpoints, in.path_length_m, config_.fe_tsp);
   // Sorted by L(X_r, V) only when some are left unsearched (the first n_searched are searched):
   // the ATSP's answer may depend on the order of equal choices.
-  const bool all_searched = static_cast<int>(toured.size()) <= n_searched;
-  if (!all_searched) {
+  if (static_cast<int>(toured.size()) > n_searched) {
     std::stable_sort(toured.begin(), toured.end(),
                      [&](int a, int b) { return robot_len[a] < robot_len[b]; });
     if (static_cast<int>(toured.size()) > config_.prior_free_max_viewpoints)
       toured.resize(config_.prior_free_max_viewpoints);
+  } else if (unreachable.empty()) {
+    return solvePriorFreeTour(in.robot, in.viewpoints, in.path_length_m, config_.fe_tsp);
   }
   std::vector<PlanViewpoint> sub;
   for (int i : toured) sub.push_back(in.viewpoints[i]);
   const PathLengthFn sub_len = [&](int a, int b) {
-    if (all_searched || a == kRobotNode || b == kRobotNode || (a < n_searched && b < n_searched))
+    if (a == kRobotNode || b == kRobotNode || (a < n_searched && b < n_searched))
       return in.path_length_m(a == kRobotNode ? kRobotNode : toured[a],
                               b == kRobotNode ? kRobotNode : toured[b]);
     return priorFreeEdgeEstimate_m(sub[a].position_world_m, robot_len[toured[a]],
