@@ -2,14 +2,27 @@
 #include "exploration_mission/plan_log.h"
 
 #include <array>
+#include <string>
 
 namespace efs::mission {
+
+std::string guidepointsText(const planner::HypothesisAttachment& attachment) {
+  // In the order of planner::GuidepointState (record() counts the states the same way).
+  constexpr char kLetter[] = "UEXO";
+  std::string text;
+  for (size_t j = 0; j < attachment.states.size(); ++j) {
+    if (j > 0) text += ' ';
+    text += kLetter[static_cast<int>(attachment.states[j])];
+    text += std::to_string(j < attachment.attached.size() ? attachment.attached[j].size() : 0);
+  }
+  return text;
+}
 
 PlanLog::PlanLog(std::ostream& out) : out_(out) {
   out_ << "time_s,x_m,y_m,z_m,state,mode,active_hypothesis,hypotheses,viewpoints,unexplored,"
           "exploring,explored,outside,target_group,isolated,next_guidepoint_x_m,"
           "next_guidepoint_y_m,terminal_x_m,terminal_y_m,goal_x_m,goal_y_m,goal_z_m,viewpoint_x_m,"
-          "viewpoint_y_m,viewpoint_z_m,tour\n";
+          "viewpoint_y_m,viewpoint_z_m,tour,guidepoints\n";
 }
 
 void PlanLog::record(double time_s, const Eigen::Vector3d& robot,
@@ -18,8 +31,9 @@ void PlanLog::record(double time_s, const Eigen::Vector3d& robot,
   if (!plan) return;
   const planner::ExplorationTarget& target = manager.target();
   std::array<int, 4> states{};  // unexplored, exploring, explored, outside
-  if (const planner::HypothesisAttachment* a = manager.activeAttachment())
-    for (planner::GuidepointState s : a->states) ++states[static_cast<int>(s)];
+  const planner::HypothesisAttachment* attachment = manager.activeAttachment();
+  if (attachment)
+    for (planner::GuidepointState s : attachment->states) ++states[static_cast<int>(s)];
   const std::vector<Eigen::Vector2d> sequence = manager.activeGuidepointSequence();
   const auto xy = [&](size_t i) {
     if (i >= sequence.size()) return std::string(",");
@@ -41,7 +55,8 @@ void PlanLog::record(double time_s, const Eigen::Vector3d& robot,
   xyz(target.goal_world_m);
   out_ << ',';
   xyz(target.viewpoint_world_m);
-  out_ << ',' << plan->tour.viewpoints.size() << '\n';
+  out_ << ',' << plan->tour.viewpoints.size() << ','
+       << (attachment ? guidepointsText(*attachment) : std::string()) << '\n';
   ++rows_;
 }
 

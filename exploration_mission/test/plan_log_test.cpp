@@ -54,6 +54,17 @@ TEST(PlanLog, OneLinePerPlanWithTheHeadersColumns) {
   EXPECT_EQ(columns(row), columns(header));
   EXPECT_EQ(header.rfind("time_s,x_m,y_m,z_m,state,mode,", 0), 0u);
   EXPECT_EQ(row.rfind("0.1,2,0.1,1.6,exploring,prior_free,-1,0,", 0), 0u) << row;
+  // No hypothesis guided: the guidepoints column is empty.
+  EXPECT_EQ(row.back(), ',') << row;
+}
+
+TEST(PlanLog, GuidepointsColumnGivesEachStateAndItsAttachedViewpoints) {
+  planner::HypothesisAttachment a;
+  a.states = {planner::GuidepointState::kExploring, planner::GuidepointState::kExplored,
+              planner::GuidepointState::kUnexplored, planner::GuidepointState::kOutside};
+  a.attached = {{0, 4, 7}, {}, {}, {}};
+  EXPECT_EQ(guidepointsText(a), "E3 X0 U0 O0");
+  EXPECT_EQ(guidepointsText(planner::HypothesisAttachment{}), "");
 }
 
 }  // namespace

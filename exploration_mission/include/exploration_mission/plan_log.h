@@ -8,10 +8,17 @@
 
 #include <Eigen/Core>
 #include <ostream>
+#include <string>
 
 #include "prior_guided_planner/exploration_manager.h"
 
 namespace efs::mission {
+
+/// The `guidepoints` column: per guidepoint of the active hypothesis, in prior order, its state
+/// (U unexplored, E exploring, X explored, O outside) and its number of attached viewpoints,
+/// space-separated ("E3 X0 U0"). A guidepoint whose state flips between plans is what turns a
+/// flight around; this column shows which one it was.
+std::string guidepointsText(const planner::HypothesisAttachment& attachment);
 
 class PlanLog {
  public:
