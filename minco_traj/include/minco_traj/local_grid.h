@@ -174,15 +174,15 @@ class LocalGrid {
   void restoreRemembered();
   /// Drops memory blocks beyond memory_radius_m of the window centre.
   void cropMemory();
+  /// Keys of the window's cells whose centres lie in [lo, hi] (empty when a max < its min).
+  std::pair<VoxelKey, VoxelKey> keysInBox(const Eigen::Vector3d& lo,
+                                          const Eigen::Vector3d& hi) const;
 
   LocalGridConfig cfg_;
   int nx_ = 0, ny_ = 0, nz_ = 0;
   VoxelKey min_key_;
   /// Everything a ray step, an inflation stamp or a search step reads of one cell, together: a
   /// ray crosses cells a whole y-z plane apart, and one array per field cost a cache miss each.
-  /// Keys of the window's cells whose centres lie in [lo, hi] (empty when a max < its min).
-  std::pair<VoxelKey, VoxelKey> keysInBox(const Eigen::Vector3d& lo,
-                                          const Eigen::Vector3d& hi) const;
   struct Cell {
     float logodds = 0.f;
     uint32_t scan_stamp = 0;
