@@ -327,7 +327,9 @@ Sketch drawSketch(const VoxelWorld& world, SketchVariant variant, const SketchCo
   const Sim2 T_sketch_world = sk.T_world_sketch.inverse();
   for (size_t i = 0; i < drawn.size(); ++i) {
     if (!keep[i]) continue;
-    Eigen::Vector2d uv = sk.sketchToPixel(T_sketch_world.apply(drawn[i]));
+    const Eigen::Vector2d p_sketch = T_sketch_world.apply(drawn[i]);
+    sk.drawn_walls.push_back({walls[i], p_sketch});
+    Eigen::Vector2d uv = sk.sketchToPixel(p_sketch);
     if (variant == SketchVariant::kDeformed) {
       uv += cfg.jitter_px * Eigen::Vector2d(jitter_x(walls[i].x(), walls[i].y()),
                                             jitter_y(walls[i].x(), walls[i].y()));

@@ -138,6 +138,51 @@ TEST(WorldSketch, VariantsDifferAsDescribed) {
   EXPECT_GE(inkFraction(scaled, walls), 0.99);
 }
 
+TEST(WorldSketch, DrawnWallsPairEachWorldWallWithItsInk) {
+  const VoxelWorld w = generateWorld(WorldKind::kIndoor, WorldSize::kSmall, 3, 0.15);
+  const size_t num_walls = wallPoints(w, w.sketch_band).size();
+  SketchConfig cfg;
+  cfg.seed = 4;
+  cfg.partial_regions = 1;
+  cfg.partial_region_fraction = 0.2;
+  const auto onInk = [](const Sketch& sk, const DrawnWallPoint& d, int tolerance_px) {
+    const Eigen::Vector2d uv = sk.sketchToPixel(d.sketch_m);
+    for (int dv = -tolerance_px; dv <= tolerance_px; ++dv)
+      for (int du = -tolerance_px; du <= tolerance_px; ++du)
+        if (sk.inkAt(uv + Eigen::Vector2d(du, dv))) return true;
+    return false;
+  };
+
+  const Sketch precise = drawSketch(w, SketchVariant::kPrecise, cfg);
+  ASSERT_EQ(precise.drawn_walls.size(), num_walls);
+  for (const DrawnWallPoint& d : precise.drawn_walls) {
+    // Undeformed: the sidecar similarity is the whole story.
+    ASSERT_LT((precise.T_world_sketch.apply(d.sketch_m) - d.world_m).norm(), 1e-9);
+    ASSERT_TRUE(onInk(precise, d, 0));
+  }
+
+  const Sketch partial = drawSketch(w, SketchVariant::kPartial, cfg);
+  EXPECT_LT(partial.drawn_walls.size(), 0.95 * num_walls);  // only what was drawn
+  EXPECT_GT(partial.drawn_walls.size(), 0.4 * num_walls);
+
+  const Sketch deformed = drawSketch(w, SketchVariant::kDeformed, cfg);
+  ASSERT_EQ(deformed.drawn_walls.size(), num_walls);
+  int on_ink = 0, moved = 0;
+  double worst_m = 0.0;
+  for (const DrawnWallPoint& d : deformed.drawn_walls) {
+    // The pair is where the line went before the tremor (jitter_px 0.7 < 1 px).
+    on_ink += onInk(deformed, d, 1);
+    const double off_m = (deformed.T_world_sketch.apply(d.sketch_m) - d.world_m).norm();
+    moved += off_m > 0.05;
+    worst_m = std::max(worst_m, off_m);
+  }
+  EXPECT_GT(on_ink, 0.99 * num_walls);
+  // The warp the sidecar leaves out: most points moved, by no more than the warp's bound plus
+  // the anisotropy over the world's half-extent (about 25 m for the small indoor world).
+  EXPECT_GT(moved, 0.8 * num_walls);
+  EXPECT_LT(worst_m, cfg.deform_max_m + cfg.anisotropy * 30.0);
+}
+
 TEST(WorldSketch, SameSeedSameDrawing) {
   const VoxelWorld w = generateWorld(WorldKind::kSubtCave, WorldSize::kSmall, 3, 0.2);
   SketchConfig cfg;

@@ -63,6 +63,15 @@ struct SketchConfig {
   void validate() const;
 };
 
+/// A wall point of the world and where the drawing put it, before the hand's tremor (sketch
+/// metric frame). EVALUATION ONLY, like the sidecar. For the deformed variant the pairs carry the
+/// warp that T_world_sketch (the best single similarity over the whole drawing) leaves out, so an
+/// evaluation can fit the similarity that holds over the part of the world seen so far.
+struct DrawnWallPoint {
+  Eigen::Vector2d world_m;
+  Eigen::Vector2d sketch_m;
+};
+
 struct Sketch {
   cv::Mat image;  // CV_8UC1: 0 = ink, 255 = paper
   SketchVariant variant = SketchVariant::kPrecise;
@@ -71,6 +80,7 @@ struct Sketch {
   double metres_per_pixel = 0.1;
   Sim2 T_world_sketch;
   SketchBand band;
+  std::vector<DrawnWallPoint> drawn_walls;  ///< the walls drawn (partial: those kept)
 
   double trueMetresPerPixel() const { return T_world_sketch.scale * metres_per_pixel; }
   /// Centre of pixel (u, v) in the sketch metric frame.

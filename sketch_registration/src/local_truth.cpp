@@ -1,0 +1,61 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "sketch_registration/local_truth.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace efs::registration {
+
+LocalTruth::LocalTruth(const Points2d& world_m, const Points2d& sketch_m, double radius_m,
+                       bool reflected)
+    : sketch_m_(sketch_m), radius_m_(radius_m), reflected_(reflected) {
+  if (world_m.size() != sketch_m.size()) {
+    throw std::invalid_argument("LocalTruth: " + std::to_string(world_m.size()) +
+                                " world points but " + std::to_string(sketch_m.size()) +
+                                " sketch points");
+  }
+  if (!(radius_m > 0.0)) throw std::invalid_argument("LocalTruth: radius_m must be positive");
+  world_tree_ =
+      std::make_unique<PointKdTree<2>>(PointKdTree<2>::Points(world_m.begin(), world_m.end()));
+  is_seen_.assign(world_m.size(), 0);
+}
+
+void LocalTruth::observeFrom(const Eigen::Vector2d& robot_m) {
+  if (!robot_m.allFinite()) return;
+  for (const auto& [i, d2] : world_tree_->radius(robot_m, radius_m_)) {
+    (void)d2;
+    if (is_seen_[i]) continue;
+    is_seen_[i] = 1;
+    seen_.push_back(i);
+  }
+}
+
+const std::optional<Sim2Fit>& LocalTruth::fit() const {
+  if (seen_.size() == cached_count_) return cached_;
+  cached_count_ = seen_.size();
+  cached_.reset();
+  if (seen_.size() < 2) return cached_;
+  Points2d c, p;
+  c.reserve(seen_.size());
+  p.reserve(seen_.size());
+  for (size_t i : seen_) {
+    c.push_back(sketch_m_[i]);
+    p.push_back(world_tree_->points()[i]);
+  }
+  const Sim2Fit f = fitSim2(c, p, reflected_);
+  if (f.ok) cached_ = f;
+  return cached_;
+}
+
+double LocalTruth::placementRms(const Sim2& T) const {
+  const std::optional<Sim2Fit>& local = fit();
+  if (!local) return std::nan("");
+  double sum = 0.0;
+  for (size_t i : seen_) {
+    sum += (T.apply(sketch_m_[i]) - local->T_world_sketch.apply(sketch_m_[i])).squaredNorm();
+  }
+  return std::sqrt(sum / static_cast<double>(seen_.size()));
+}
+
+}  // namespace efs::registration
