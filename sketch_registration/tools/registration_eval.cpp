@@ -44,7 +44,8 @@
 //   observation against the world, the reference and the final best hypothesis.
 // --reference: a placement of a real sketch found offline, for the diagnostics above only (its
 //   success is still judged by the wall fit).
-// Registration parameters for ablations: --eta, --fitness-threshold-m, --min-inlier-ratio,
+// Registration parameters for ablations: --eta, --downsample-radius-m, --max-candidates-per-frame,
+// --fitness-threshold-m, --min-inlier-ratio,
 // --kept-fitness-threshold-m, --kept-min-inlier-ratio, --forward-inlier-slack,
 // --slack-min-reverse-ratio, --kept-min-inside-ratio, --screen-points,
 // --inlier-distance-m, --slice-min-dz-m, --slice-max-dz-m, --wall-columns 0|1, --column-cell-m,
@@ -1001,6 +1002,8 @@ Options parse(int argc, char** argv) {
                         "deform-max-m",
                         "anisotropy",
                         "history-radius-m",
+                        "downsample-radius-m",
+                        "max-candidates-per-frame",
                         "history-min-inlier-ratio",
                         "history-kept-min-inlier-ratio",
                         "wall-median-m",
@@ -1089,6 +1092,9 @@ Options parse(int argc, char** argv) {
   }
   overrideNumber("fitness-threshold-m", o.registration.fitness_threshold_m);
   overrideNumber("eta", o.registration.retrieval.eta);
+  overrideNumber("downsample-radius-m", o.registration.retrieval.downsample_radius_m);
+  o.registration.retrieval.max_candidates_per_frame = static_cast<int>(
+      args.integer("max-candidates-per-frame", o.registration.retrieval.max_candidates_per_frame));
   overrideNumber("min-inlier-ratio", o.registration.icp.min_inlier_ratio);
   overrideNumber("slice-min-dz-m", o.registration.observation.slice_min_dz_m);
   overrideNumber("slice-max-dz-m", o.registration.observation.slice_max_dz_m);
