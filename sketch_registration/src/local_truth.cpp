@@ -23,8 +23,8 @@ LocalTruth::LocalTruth(const Points2d& world_m, const Points2d& sketch_m, double
 
 void LocalTruth::observeFrom(const Eigen::Vector2d& robot_m) {
   if (!robot_m.allFinite()) return;
-  for (const auto& [i, d2] : world_tree_->radius(robot_m, radius_m_)) {
-    (void)d2;
+  for (const auto& hit : world_tree_->radius(robot_m, radius_m_)) {
+    const size_t i = hit.first;
     if (is_seen_[i]) continue;
     is_seen_[i] = 1;
     seen_.push_back(i);

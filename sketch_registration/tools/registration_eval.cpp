@@ -739,8 +739,8 @@ struct TrialResult {
   WallFit final_wall;                            ///< best hypothesis of the last frame with one
   int reported_frames = 0;                       ///< frames with a reported (best) hypothesis
   int wrong_frames = 0;  ///< of those, frames whose best hypothesis is not a success
-  int far_frames = 0;    ///< of those, placement error above 3 x the success bound (truth)
-  double worst_wrong_placement_m = 0.0;  ///< largest placement error of a wrong best (with truth)
+  int far_frames = 0;    ///< of those, placement error (deformed: local) above 3 x the bound
+  double worst_wrong_placement_m = 0.0;  ///< largest such error of a wrong best (with truth)
   int frames_after_ttc = 0;              ///< frames from TTC on
   int correct_after_ttc = 0;             ///< of those, frames whose best hypothesis is a success
   double scale = std::nan("");

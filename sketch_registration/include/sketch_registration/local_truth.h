@@ -10,6 +10,7 @@
 // walls seen can be asked to find.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <vector>
