@@ -7,6 +7,12 @@
 
 namespace efs::registration {
 
+double placementRms(const Points2d& sketch_m, const Sim2& a, const Sim2& b) {
+  double sum = 0.0;
+  for (const Eigen::Vector2d& q : sketch_m) sum += (a.apply(q) - b.apply(q)).squaredNorm();
+  return sketch_m.empty() ? std::nan("") : std::sqrt(sum / static_cast<double>(sketch_m.size()));
+}
+
 LocalTruth::LocalTruth(const Points2d& world_m, const Points2d& sketch_m, double radius_m,
                        bool reflected)
     : sketch_m_(sketch_m), radius_m_(radius_m), reflected_(reflected) {
@@ -27,35 +33,25 @@ void LocalTruth::observeFrom(const Eigen::Vector2d& robot_m) {
     const size_t i = hit.first;
     if (is_seen_[i]) continue;
     is_seen_[i] = 1;
-    seen_.push_back(i);
+    seen_sketch_m_.push_back(sketch_m_[i]);
+    seen_world_m_.push_back(world_tree_->points()[i]);
   }
 }
 
 const std::optional<Sim2Fit>& LocalTruth::fit() const {
-  if (seen_.size() == cached_count_) return cached_;
-  cached_count_ = seen_.size();
+  if (seen_sketch_m_.size() == cached_count_) return cached_;
+  cached_count_ = seen_sketch_m_.size();
   cached_.reset();
-  if (seen_.size() < 2) return cached_;
-  Points2d c, p;
-  c.reserve(seen_.size());
-  p.reserve(seen_.size());
-  for (size_t i : seen_) {
-    c.push_back(sketch_m_[i]);
-    p.push_back(world_tree_->points()[i]);
-  }
-  const Sim2Fit f = fitSim2(c, p, reflected_);
+  if (seen_sketch_m_.size() < 2) return cached_;
+  const Sim2Fit f = fitSim2(seen_sketch_m_, seen_world_m_, reflected_);
   if (f.ok) cached_ = f;
   return cached_;
 }
 
 double LocalTruth::placementRms(const Sim2& T) const {
   const std::optional<Sim2Fit>& local = fit();
-  if (!local) return std::nan("");
-  double sum = 0.0;
-  for (size_t i : seen_) {
-    sum += (T.apply(sketch_m_[i]) - local->T_world_sketch.apply(sketch_m_[i])).squaredNorm();
-  }
-  return std::sqrt(sum / static_cast<double>(seen_.size()));
+  return local ? registration::placementRms(seen_sketch_m_, T, local->T_world_sketch)
+               : std::nan("");
 }
 
 }  // namespace efs::registration

@@ -172,8 +172,8 @@ std::string pct(double fraction) {
 struct SketchInput {
   pm::PriorBundle bundle;
   std::optional<Sim2> T_world_sketch;  ///< the sidecar truth, when known
-  /// Generated sketches: each drawn wall's world position and where the drawing put it (the
-  /// local truth of a deformed drawing is fitted to these).
+  /// Deformed sketches: each drawn wall's world position and where the drawing put it (the
+  /// local truth is fitted to these).
   reg::Points2d drawn_world_m, drawn_sketch_m;
 };
 
@@ -199,9 +199,11 @@ SketchInput generatedSketch(const sim::VoxelWorld& world, sim::SketchVariant var
   SketchInput in = sketchInput(
       pm::sketchFromImage(sketch.image, lc, world.name + " " + sim::sketchVariantName(variant)));
   in.T_world_sketch = sketch.T_world_sketch;
-  for (const sim::DrawnWallPoint& d : sketch.drawn_walls) {
-    in.drawn_world_m.push_back(d.world_m);
-    in.drawn_sketch_m.push_back(d.sketch_m);
+  if (variant == sim::SketchVariant::kDeformed) {  // only a deformed one has a local truth
+    for (const sim::DrawnWallPoint& d : sketch.drawn_walls) {
+      in.drawn_world_m.push_back(d.world_m);
+      in.drawn_sketch_m.push_back(d.sketch_m);
+    }
   }
   return in;
 }
@@ -409,14 +411,6 @@ std::unique_ptr<Tree2> treeOf(const reg::Points2d& pts) {
 }
 
 /// RMSE of closest point pairs: sketch walls mapped by `estimate` vs by `truth` (world metres).
-/// RMS of |T_est(p) - T_true(p)| over the sketch walls: the placement error itself, which a
-/// shrunken or shifted estimate cannot hide among dense walls (closest pairs can).
-double placementRms(const reg::Points2d& walls, const Sim2& estimate, const Sim2& truth) {
-  double sum = 0.0;
-  for (const Vector2d& p : walls) sum += (estimate.apply(p) - truth.apply(p)).squaredNorm();
-  return walls.empty() ? std::nan("") : std::sqrt(sum / static_cast<double>(walls.size()));
-}
-
 double registrationRmse(const reg::Points2d& walls, const Sim2& estimate, const Tree2& truth_tree) {
   double sum = 0.0;
   for (const Vector2d& p : walls) sum += truth_tree.nearest(estimate.apply(p)).second;
@@ -663,7 +657,7 @@ struct TruthDiagnostics {
                      fit.T_world_sketch.scale, fit.T_world_sketch.yaw_rad * 180 / M_PI,
                      fit.rms_residual_m / sp,
                      reg::fourierDistance(reg::fourierDescriptor(c), reg::fourierDescriptor(w)),
-                     placementRms(sketch_walls, fit.T_world_sketch, truth));
+                     reg::placementRms(sketch_walls, fit.T_world_sketch, truth));
       } else {
         std::fprintf(stderr, "           correct triplet: incomplete\n");
       }
@@ -671,7 +665,7 @@ struct TruthDiagnostics {
     // Did the verifier hand a transform near the truth to Scale-ICP, and what became of it?
     const auto& reps = registration.verifier().representatives();
     for (size_t i = 0; i < reps.size(); ++i) {
-      const double pl = placementRms(sketch_walls, reps[i].T_world_sketch, truth);
+      const double pl = reg::placementRms(sketch_walls, reps[i].T_world_sketch, truth);
       if (pl > near_m) continue;
       const reg::IcpResult f = icp.refine(reps[i].T_world_sketch, obs.icp_m, 0.0, &index);
       std::fprintf(stderr,
@@ -679,7 +673,7 @@ struct TruthDiagnostics {
                    "corr., fd %.3f): refined F %.2f inliers %.2f usable %d, placement %.2f m\n",
                    i, reps.size(), pl, reps[i].cluster_size, reps[i].num_correspondences,
                    reps[i].fd_distance, f.fitness_m, f.inlierRatio(), f.usable,
-                   placementRms(sketch_walls, f.T_world_sketch, truth));
+                   reg::placementRms(sketch_walls, f.T_world_sketch, truth));
       break;
     }
   }
@@ -800,7 +794,7 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
     j.wall = wallFit(prior.boundary_sketch_m, T, world_walls);
     if (truth_tree) {
       j.error_m = registrationRmse(prior.boundary_sketch_m, T, *truth_tree);
-      j.placement_m = placementRms(prior.boundary_sketch_m, T, *sketch.T_world_sketch);
+      j.placement_m = reg::placementRms(prior.boundary_sketch_m, T, *sketch.T_world_sketch);
       if (local_truth) j.local_placement_m = local_truth->placementRms(T);
       j.success = (local_truth ? j.local_placement_m : j.placement_m) <= opt.success_rmse_m;
     } else {

@@ -22,6 +22,11 @@
 
 namespace efs::registration {
 
+/// RMS of |a(q) - b(q)| over the sketch points q: how far two placements of a drawing lie apart
+/// (world metres). Unlike closest-pair distances, a shrunken or shifted placement cannot hide
+/// among dense walls. NaN for no points.
+double placementRms(const Points2d& sketch_m, const Sim2& a, const Sim2& b);
+
 class LocalTruth {
  public:
   /// `world_m[i]` was drawn at `sketch_m[i]`; `reflected`: the drawing is a mirror image.
@@ -30,7 +35,7 @@ class LocalTruth {
 
   /// Marks the pairs whose world point lies within radius_m of `robot_m` as seen.
   void observeFrom(const Eigen::Vector2d& robot_m);
-  size_t seenCount() const { return seen_.size(); }
+  size_t seenCount() const { return seen_sketch_m_.size(); }
 
   /// The least-squares similarity over the seen pairs; empty until two of them are seen or while
   /// they are degenerate (all at one point).
@@ -46,7 +51,7 @@ class LocalTruth {
   double radius_m_;
   bool reflected_;
   std::vector<uint8_t> is_seen_;
-  std::vector<size_t> seen_;
+  Points2d seen_sketch_m_, seen_world_m_;  ///< the pairs seen, in the order first seen
   mutable std::optional<Sim2Fit> cached_;
   mutable size_t cached_count_ = 0;
 };
