@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <queue>
 #include <tuple>
@@ -385,7 +386,34 @@ PathSearch::Joins PathSearch::attach(const Eigen::Vector3d& p) {
 // Greedy string pulling: from each kept point jump to the farthest point within
 // shorten_lookahead_m along the path still reachable by a safe straight segment. The end points
 // keep the relaxed (radius 0) joining rule.
-std::vector<Eigen::Vector3d> PathSearch::shorten(std::vector<Eigen::Vector3d> path) const {
+struct PathSearch::SegmentMemo {
+  struct Query {
+    Eigen::Vector3d a, b;
+    double radius_m;
+    bool unknown_is_safe;
+    bool operator==(const Query& o) const {
+      return a == o.a && b == o.b && radius_m == o.radius_m && unknown_is_safe == o.unknown_is_safe;
+    }
+  };
+  struct QueryHash {
+    size_t operator()(const Query& q) const noexcept {
+      uint64_t h = q.unknown_is_safe ? 1u : 0u;
+      const auto mix = [&h](double v) {
+        uint64_t bits;
+        std::memcpy(&bits, &v, sizeof bits);
+        h = (h ^ bits) * 0x9E3779B97F4A7C15ULL;
+        h ^= h >> 29;
+      };
+      for (int i = 0; i < 3; ++i) mix(q.a[i]), mix(q.b[i]);
+      mix(q.radius_m);
+      return static_cast<size_t>(h);
+    }
+  };
+  std::unordered_map<Query, bool, QueryHash> safe;
+};
+
+std::vector<Eigen::Vector3d> PathSearch::shorten(std::vector<Eigen::Vector3d> path,
+                                                 SegmentMemo* memo) const {
   if (!config_.shorten || path.size() <= 2) return path;
   const double r = config_.vehicle_radius_m;
   const bool unk = config_.unknown_is_traversable;
@@ -401,7 +429,18 @@ std::vector<Eigen::Vector3d> PathSearch::shorten(std::vector<Eigen::Vector3d> pa
         along.begin() - 1);
     for (size_t t = std::max(last, i + 1); t > i + 1; --t) {
       const bool ends = (i == 0 || t == path.size() - 1);
-      if (segmentSafe(path[i], path[t], ends ? 0.0 : r, ends ? true : unk)) {
+      const double radius_m = ends ? 0.0 : r;
+      const bool unknown_is_safe = ends ? true : unk;
+      bool safe;
+      if (memo) {
+        const auto [it, asked_first] =
+            memo->safe.try_emplace({path[i], path[t], radius_m, unknown_is_safe}, false);
+        if (asked_first) it->second = segmentSafe(path[i], path[t], radius_m, unknown_is_safe);
+        safe = it->second;
+      } else {
+        safe = segmentSafe(path[i], path[t], radius_m, unknown_is_safe);
+      }
+      if (safe) {
         j = t;
         break;
       }
@@ -415,7 +454,7 @@ std::vector<Eigen::Vector3d> PathSearch::shorten(std::vector<Eigen::Vector3d> pa
 // a, the lattice nodes from a start node to `last` (parents of the current search), b;
 // shortened.
 std::vector<Eigen::Vector3d> PathSearch::tracePath(const Eigen::Vector3d& a, const VoxelKey& last,
-                                                   const Eigen::Vector3d& b) {
+                                                   const Eigen::Vector3d& b, SegmentMemo* memo) {
   const Offsets& o = offsets26();
   std::vector<Eigen::Vector3d> path{b};
   for (VoxelKey k = last;;) {
@@ -427,7 +466,7 @@ std::vector<Eigen::Vector3d> PathSearch::tracePath(const Eigen::Vector3d& a, con
   }
   path.push_back(a);
   std::reverse(path.begin(), path.end());
-  return shorten(std::move(path));
+  return shorten(std::move(path), memo);
 }
 
 namespace {
@@ -604,6 +643,7 @@ std::vector<PathSearchResult> PathSearch::searchFrom(const Eigen::Vector3d& a,
   // a second Dijkstra that may cross narrow nodes (doors), as search() does.
   std::vector<bool> pending(targets.size(), false);
   for (const auto& gj : goal_joins) pending[gj.second.first] = true;
+  SegmentMemo memo;
   for (const bool wide_only : {true, false}) {
     if (!wide_only && config_.narrow_radius_m <= 0.0) break;
     std::vector<std::pair<VoxelKey, std::pair<int, double>>> goals;
@@ -646,7 +686,7 @@ std::vector<PathSearchResult> PathSearch::searchFrom(const Eigen::Vector3d& a,
         continue;
       }
       // Traced now: the next phase's search reuses the scratch that holds the parents.
-      out[t].waypoints_world_m = tracePath(a, *best_node[t], targets[t]);
+      out[t].waypoints_world_m = tracePath(a, *best_node[t], targets[t], &memo);
       out[t].length_m = pathLength(out[t].waypoints_world_m);
       pending[t] = false;
     }

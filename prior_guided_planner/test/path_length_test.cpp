@@ -177,6 +177,38 @@ TEST(PathLength, LengthsFromOneSourceMatchSearch) {
   EXPECT_TRUE(ps.lengthsFrom(a, {}).empty());
 }
 
+// Paths to many targets behind one wall share their way round its end; searchFrom() answers
+// the segment tests of their string pulling once. Each path must be exactly the one the target
+// gets when searched alone (a Dijkstra settles the same parents whatever else it looks for).
+TEST(PathLength, TargetsSharingTheirWayGetTheirOwnPaths) {
+  Scene s;
+  s.room = {Eigen::Vector3d(-10, -10, -0.05), Eigen::Vector3d(10, 10, 4)};
+  s.solids.push_back({Eigen::Vector3d(-0.15, -10.1, -0.1), Eigen::Vector3d(0.15, 2.0, 4.1)});
+  s.solids.push_back({Eigen::Vector3d(2.0, -1.0, -0.1), Eigen::Vector3d(2.6, -0.4, 4.1)});
+  OccupancyMap occ;
+  scanFrom(occ, s,
+           {Eigen::Vector3d(-3, 0, 2), Eigen::Vector3d(3, 0, 2), Eigen::Vector3d(0, 5, 2),
+            Eigen::Vector3d(-3, -4, 2), Eigen::Vector3d(3, -4, 2), Eigen::Vector3d(6, -6, 2)});
+  const Eigen::Vector3d a(-4, -5, 2);
+  std::vector<Eigen::Vector3d> targets;
+  for (double x = 1.5; x <= 7.5; x += 1.5)
+    for (double y = -8.0; y <= -1.0; y += 1.75) targets.emplace_back(x, y, 1.5 + 0.1 * x);
+  PathSearch together(occ);
+  const auto all = together.searchFrom(a, targets);
+  ASSERT_EQ(all.size(), targets.size());
+  int detours = 0;
+  for (size_t i = 0; i < targets.size(); ++i) {
+    PathSearch alone(occ);
+    const auto one = alone.searchFrom(a, {targets[i]});
+    ASSERT_EQ(all[i].length_m.has_value(), one[0].length_m.has_value()) << "target " << i;
+    if (!one[0].length_m) continue;
+    detours += !one[0].straight;
+    EXPECT_EQ(all[i].waypoints_world_m, one[0].waypoints_world_m) << "target " << i;
+    EXPECT_EQ(*all[i].length_m, *one[0].length_m) << "target " << i;
+  }
+  EXPECT_GE(detours, 15);  // round the wall's end: the string pulling had shared work to do
+}
+
 // After a scan the memo forgets only what the scan could change: the answers equal those of a
 // search that starts from scratch, while most of the memo survives.
 TEST(PathLength, MemoSyncedScanByScanMatchesAFreshSearch) {
