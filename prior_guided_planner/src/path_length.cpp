@@ -383,9 +383,6 @@ PathSearch::Joins PathSearch::attach(const Eigen::Vector3d& p) {
   return out;
 }
 
-// Greedy string pulling: from each kept point jump to the farthest point within
-// shorten_lookahead_m along the path still reachable by a safe straight segment. The end points
-// keep the relaxed (radius 0) joining rule.
 struct PathSearch::SegmentMemo {
   struct Query {
     Eigen::Vector3d a, b;
@@ -412,6 +409,9 @@ struct PathSearch::SegmentMemo {
   std::unordered_map<Query, bool, QueryHash> safe;
 };
 
+// Greedy string pulling: from each kept point jump to the farthest point within
+// shorten_lookahead_m along the path still reachable by a safe straight segment. The end points
+// keep the relaxed (radius 0) joining rule.
 std::vector<Eigen::Vector3d> PathSearch::shorten(std::vector<Eigen::Vector3d> path,
                                                  SegmentMemo* memo) const {
   if (!config_.shorten || path.size() <= 2) return path;
