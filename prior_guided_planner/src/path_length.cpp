@@ -406,7 +406,13 @@ struct PathSearch::SegmentMemo {
       return static_cast<size_t>(h);
     }
   };
-  std::unordered_map<Query, bool, QueryHash> safe;
+  /// search.segmentSafe for `q`, tested on the first ask only.
+  bool safe(const PathSearch& search, const Query& q) {
+    const auto [it, first_ask] = answers.try_emplace(q, false);
+    if (first_ask) it->second = search.segmentSafe(q.a, q.b, q.radius_m, q.unknown_is_safe);
+    return it->second;
+  }
+  std::unordered_map<Query, bool, QueryHash> answers;
 };
 
 // Greedy string pulling: from each kept point jump to the farthest point within
@@ -429,18 +435,8 @@ std::vector<Eigen::Vector3d> PathSearch::shorten(std::vector<Eigen::Vector3d> pa
         along.begin() - 1);
     for (size_t t = std::max(last, i + 1); t > i + 1; --t) {
       const bool ends = (i == 0 || t == path.size() - 1);
-      const double radius_m = ends ? 0.0 : r;
-      const bool unknown_is_safe = ends ? true : unk;
-      bool safe;
-      if (memo) {
-        const auto [it, asked_first] =
-            memo->safe.try_emplace({path[i], path[t], radius_m, unknown_is_safe}, false);
-        if (asked_first) it->second = segmentSafe(path[i], path[t], radius_m, unknown_is_safe);
-        safe = it->second;
-      } else {
-        safe = segmentSafe(path[i], path[t], radius_m, unknown_is_safe);
-      }
-      if (safe) {
+      const SegmentMemo::Query q{path[i], path[t], ends ? 0.0 : r, ends ? true : unk};
+      if (memo ? memo->safe(*this, q) : segmentSafe(q.a, q.b, q.radius_m, q.unknown_is_safe)) {
         j = t;
         break;
       }
