@@ -173,6 +173,9 @@ TEST(ExplorationManager, TargetsWithoutProgressAreRetriedThenGivenUp) {
 // that is no longer current, or a non-finite one, changes nothing.
 TEST(ExplorationManager, AGoalTheLocalPlannerGaveUpOnIsSetAsideAtOnce) {
   ExplorationManagerConfig c;
+  // Two targets are needed: with the default grazing limit one scan leaves frontier only at the
+  // corridor's far end.
+  c.observation.facing_min_cosine = testing::kStrictFacingMinCosine;
   c.target_progress_timeout_s = 10.0;
   c.unreachable_retry_s = 100.0;
   ExplorationManager m(c, std::nullopt);

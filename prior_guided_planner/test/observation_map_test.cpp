@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "efs_common/config_check.h"
+#include "observation_map_test_scenes.h"
 #include "prior_guided_planner/observation_map.h"
 
 namespace efs::planner {
@@ -104,13 +105,27 @@ TEST(ObservationMap, AWallSeenHeadOnFromMidRangeIsWellObserved) {
   far.insertScan(o, planePatch(far_wall, ey, ez));
   EXPECT_FALSE(wellAt(far, far_wall));
 
-  // A wall along the line of sight (plane y = 2.05, x 9..11): the rays meet it at about 78 deg
+  // A wall along the line of sight (plane y = 0.45, x 9..11): the rays skim it, about 88 deg
   // from its normal.
   ObservationMap grazing;
-  const Eigen::Vector3d side(10.05, 2.05, 0.15);
+  const Eigen::Vector3d side(10.05, 0.45, 0.15);
   grazing.insertScan(o, planePatch(side, Eigen::Vector3d::UnitX(), ez));
   EXPECT_FALSE(wellAt(grazing, side));
   ASSERT_TRUE(grazing.surfaceNormal(grazing.key(side)).has_value());
+
+  // The floor 0.9 m below the sensor, seen from 8 m (about 6 deg above it): well observed, the
+  // case the default limit is for; a 17.5 deg limit leaves it for a pass within 3 m.
+  const Eigen::Vector3d floor(8.05, 0.15, -0.75);
+  const Eigen::Vector3d ex = Eigen::Vector3d::UnitX();
+  ObservationMap floor_map;
+  floor_map.insertScan(o, planePatch(floor, ex, ey));
+  EXPECT_TRUE(wellAt(floor_map, floor));
+  ObservationMapConfig strict;
+  strict.facing_min_cosine = testing::kStrictFacingMinCosine;
+  ObservationMap floor_strict(strict);
+  floor_strict.insertScan(o, planePatch(floor, ex, ey));
+  EXPECT_FALSE(wellAt(floor_strict, floor));
+  ASSERT_TRUE(floor_strict.surfaceNormal(floor_strict.key(floor)).has_value());
 }
 
 TEST(ObservationMap, FrontierIsPoorlyObservedNextToWellObserved) {

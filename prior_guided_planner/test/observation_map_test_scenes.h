@@ -13,6 +13,11 @@
 
 namespace efs::planner::testing {
 
+/// A grazing limit of 17.5 deg (the default before 0.05). One scan of a room then leaves the
+/// walls and floor it sees at shallow angles poorly observed, so even a short room holds several
+/// frontier clusters; tests about what is done with clusters pin it.
+constexpr double kStrictFacingMinCosine = 0.3;
+
 struct Box {
   Eigen::Vector3d lo, hi;
 };

@@ -134,7 +134,9 @@ TEST(ViewpointSampler, ClusterViewpointsAreSafeAndSeeTheCluster) {
 TEST(ViewpointManager, FollowsTheFrontierOfAnExploredRoom) {
   Scene room;
   room.room = {Eigen::Vector3d(0.15, -2.85, 0.15), Eigen::Vector3d(15.75, 3.15, 3.15)};
-  ObservationMap obs;
+  ObservationMapConfig strict;  // several clusters to follow, not only the far end's
+  strict.facing_min_cosine = testing::kStrictFacingMinCosine;
+  ObservationMap obs(strict);
   OccupancyMap occ;
   FrontierClusterer fc;
   ViewpointManager vm;
@@ -167,8 +169,10 @@ TEST(ViewpointManager, FollowsTheFrontierOfAnExploredRoom) {
 TEST(ViewpointManager, ResampledViewpointsKeepTheirIdsWhereTheyLandAgain) {
   Scene room;
   room.room = {Eigen::Vector3d(0.15, -2.85, 0.15), Eigen::Vector3d(15.75, 3.15, 3.15)};
+  ObservationMapConfig strict;  // several clusters to rebuild
+  strict.facing_min_cosine = testing::kStrictFacingMinCosine;
   for (const double reuse : {0.3, 0.0}) {
-    ObservationMap obs;
+    ObservationMap obs(strict);
     OccupancyMap occ;
     FrontierClusterer fc;
     ViewpointConfig vc;
