@@ -60,10 +60,11 @@ struct ObservationMapConfig {
   /// sensor still needed a pass within 3.2 m: in the small garage at 95 % coverage 1 245 frontier
   /// cells remained, 99 % of them holding a return already, over half on the floor, seen from a
   /// median 7.9 m, and the flight spent 60 % of its time after 95 % on them. 0.05 on the quick
-  /// tier (3 seeds, all 16 means): 1210.0 -> 1081.9 s, garage 116.6 -> 81.6 s, SubT 86.3 ->
-  /// 79.7 s, cave 27.6 -> 26.8 s, but indoor 72.1 -> 82.5 s; coverage 97.5 % or more. 0.15 gave
-  /// 1097.7 s. A hit within facing_max_distance_m is then what marks a cell, as EPIC's trust
-  /// length does; the angle only excludes rays skimming along the surface.
+  /// tier (3 seeds; sum of the 16 method-and-world means 1210.0 -> 1081.9 s; 0.15 gave 1097.7
+  /// s): per world, over both methods and all sketches, garage 116.6 -> 81.6 s, SubT 86.3 ->
+  /// 79.7 s, cave 27.6 -> 26.8 s, but indoor 72.1 -> 82.5 s; coverage 97.5 % or more. A hit from
+  /// within facing_max_distance_m (EPIC's configurations trust observations within 12 m too)
+  /// then marks a cell; the angle only excludes rays skimming along the surface.
   double facing_min_cosine = 0.05;
   void validate() const;
 };
