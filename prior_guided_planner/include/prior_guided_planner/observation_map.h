@@ -53,18 +53,13 @@ struct ObservationMapConfig {
   /// Rule (c): one observation from within this distance (0 disables the rule) ...
   double facing_max_distance_m = 12.0;
   /// ... not grazing: |cos(ray, surface normal)| at least this (the ray at least 2.9 deg above
-  /// the surface). With 0.6 (53 deg from the normal) a cave floor was never well observed from
-  /// mid-height: the Mid-360 pitched 15 deg sees no lower than 22 deg below the horizon, so the
-  /// floor 4.5 m down is first seen at that angle from 12 m. 0.3 fixed that cave (paper-sized:
-  /// prior-free 794 -> 556 s, guided 771 -> 498 s, coverage 98 %), but a floor 1 m below the
-  /// sensor still needed a pass within 3.2 m: in the small garage at 95 % coverage 1 245 frontier
-  /// cells remained, 99 % of them holding a return already, over half on the floor, seen from a
-  /// median 7.9 m, and the flight spent 60 % of its time after 95 % on them. 0.05 on the quick
-  /// tier (3 seeds; sum of the 16 method-and-world means 1210.0 -> 1081.9 s; 0.15 gave 1097.7
-  /// s): per world, over both methods and all sketches, garage 116.6 -> 81.6 s, SubT 86.3 ->
-  /// 79.7 s, cave 27.6 -> 26.8 s, but indoor 72.1 -> 82.5 s; coverage 97.5 % or more. A hit from
-  /// within facing_max_distance_m (EPIC's configurations trust observations within 12 m too)
-  /// then marks a cell; the angle only excludes rays skimming along the surface.
+  /// the surface). At 0.6 a cave floor seen from mid-height was never well observed (the
+  /// Mid-360 pitched 15 deg sees no lower than 22 deg below the horizon); at 0.3 a floor 1 m
+  /// below still needed a pass within 3.2 m, and flights spent their tails on floor that already
+  /// held returns (small garage: 60 % of the flight after 95 % coverage). With 0.05 a hit from
+  /// within facing_max_distance_m marks a cell (EPIC's configurations trust observations within
+  /// 12 m too); the angle only excludes rays skimming along the surface. Quick tier and its
+  /// cost in the indoor world: README, "Well observed".
   double facing_min_cosine = 0.05;
   void validate() const;
 };
