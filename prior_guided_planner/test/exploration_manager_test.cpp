@@ -56,6 +56,10 @@ RobotPose at(const Eigen::Vector3d& p, double yaw = 0.0) {
 TEST(ExplorationManager, WaitsForDataThenProducesAGoalAhead) {
   ExplorationManagerConfig c;
   c.tour_lookahead_m = 0.0;  // the goal is the first viewpoint (look-ahead: its own test)
+  // With the default grazing limit one scan leaves frontier only at the corridor's far end,
+  // beyond the goal's reach (staging: its own test), and the room's unseen pockets are too small
+  // to be openings; the strict limit leaves frontier within the reach.
+  c.observation.facing_min_cosine = testing::kStrictFacingMinCosine;
   ExplorationManager m(c, std::nullopt);
   const Eigen::Vector3d start = corridorStart();
   const ExplorationTarget& t0 = m.update(0.0, at(start));
@@ -298,6 +302,8 @@ TEST(ExplorationManager, AFarViewpointIsHandedOnInStages) {
   const Eigen::Vector3d start(2.0, 0.1, 1.6);
   ExplorationManagerConfig whole_config;
   whole_config.tour_lookahead_m = 0.0;  // stages only
+  // A first viewpoint within the default reach, which the default grazing limit does not leave.
+  whole_config.observation.facing_min_cosine = testing::kStrictFacingMinCosine;
   ExplorationManager whole(whole_config, std::nullopt);
   scanFrom(whole, room, start);
   const ExplorationTarget t_whole = whole.update(0.0, at(start));
@@ -349,10 +355,12 @@ std::pair<double, double> alongPolyline(const std::vector<Eigen::Vector3d>& p,
 TEST(ExplorationManager, TheGoalLiesAheadAlongTheTour) {
   const Scene room = corridorRoom();
   const Eigen::Vector3d start(2.0, 0.1, 1.6);
-  ExplorationManagerConfig at_viewpoint;
+  // A first viewpoint within the look-ahead, which the default grazing limit does not leave.
+  ExplorationManagerConfig along;
+  along.observation.facing_min_cosine = testing::kStrictFacingMinCosine;
+  ExplorationManagerConfig at_viewpoint = along;
   at_viewpoint.tour_lookahead_m = 0.0;
-  ExplorationManager stop(at_viewpoint, std::nullopt),
-      pass(ExplorationManagerConfig{}, std::nullopt);
+  ExplorationManager stop(at_viewpoint, std::nullopt), pass(along, std::nullopt);
   scanFrom(stop, room, start);
   scanFrom(pass, room, start);
   const ExplorationTarget a = stop.update(0.0, at(start));
@@ -377,9 +385,11 @@ TEST(ExplorationManager, TheGoalLiesAheadAlongTheTour) {
 }
 
 // Flying from goal to goal (a scan at each) explores the closed room; the manager then reports
-// kFinished, and each reached goal moved on.
+// kFinished, and each reached goal moved on. The room is a 40 m corridor: a surface counts as
+// well observed from 12 m, so the 15.6 m one would be done after a single goal.
 TEST(ExplorationManager, ClosedLoopFinishesAClosedRoom) {
-  const Scene room = corridorRoom();
+  Scene room = corridorRoom();
+  room.room.hi.x() = 39.75;
   ExplorationManager m(ExplorationManagerConfig{}, std::nullopt);
   Eigen::Vector3d pos(2.0, 0.1, 1.6);
   scanFrom(m, room, pos);

@@ -16,8 +16,8 @@ using testing::Box;
 using testing::Scene;
 
 // A 20 x 8 x 3 m hall split at x = 5 by a wall with a 1.2 m door (y in [-0.6, 0.6]), scanned
-// from the left part with a 8 m range: the right part is seen only through the door.
-OccupancyMap scanned(bool door_open) {
+// from the left part with a 8 m range (by default): the right part is seen only through the door.
+OccupancyMap scanned(bool door_open, double range_m = 8.0) {
   Scene scene;
   scene.room = {{-5, -4, 0}, {15, 4, 3}};
   if (door_open) {
@@ -29,7 +29,7 @@ OccupancyMap scanned(bool door_open) {
   OccupancyMap occ;
   for (const Eigen::Vector3d& o :
        {Eigen::Vector3d(0, 0, 1.5), Eigen::Vector3d(2, -2, 1.2), Eigen::Vector3d(2, 2, 1.8)})
-    occ.insertScan(o, scene.scanSphere(o, 1.0, 8.0));
+    occ.insertScan(o, scene.scanSphere(o, 1.0, range_m));
   return occ;
 }
 
@@ -102,6 +102,26 @@ TEST(Openings, TouredWhenNoSurfaceViewpointIsLeftOrNoneIsNear) {
   EXPECT_EQ(passes, 3);
   EXPECT_EQ(ids(openingsToTour({}, robot, 0.0, min_cells, find)), (std::vector<int>{1, 2, 3}));
   EXPECT_EQ(passes, 4);
+}
+
+// Seen from the room with a 40 m range, the space behind the door leaves one large opening (the
+// unseen parts of the far room) and the shadows of the door's edges in it, 10-14 cells each:
+// pockets, not ways on, which the default cell bound leaves out.
+TEST(Openings, ShadowsInTheRoomBehindADoorAreNoWayOn) {
+  const OccupancyMap occ = scanned(true, 40.0);
+  const std::vector<Opening> ways_on = findOpenings(occ, {0, 0, 1.5}, std::nullopt);
+  ASSERT_EQ(ways_on.size(), 1u);
+  EXPECT_GT(ways_on.front().cells, 500);
+  EXPECT_GT(ways_on.front().viewpoint_world_m.x(), 5.3);
+  OpeningConfig every;
+  every.min_cells = 6;
+  const std::vector<Opening> all = findOpenings(occ, {0, 0, 1.5}, std::nullopt, every);
+  ASSERT_GT(all.size(), 1u);
+  EXPECT_EQ(all.front().id, ways_on.front().id);
+  for (size_t i = 1; i < all.size(); ++i) {
+    EXPECT_LT(all[i].cells, OpeningConfig().min_cells);
+    EXPECT_GT(all[i].viewpoint_world_m.x(), 5.3);  // in the room behind the door
+  }
 }
 
 TEST(Openings, AClosedRoomHasNoneAndTheBoxEdgeIsNone) {

@@ -59,6 +59,7 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("unreachable_attempts", e.unreachable_attempts);
   p.get("unreachable_near_m", e.unreachable_near_m);
   p.get("opening_search_radius_m", e.openings.search_radius_m);
+  p.get("opening_min_cells", e.openings.min_cells);
   p.get("near_openings_radius_m", e.near_openings_radius_m);
   p.get("near_openings_min_cells", e.near_openings_min_cells);
   p.get("max_goal_distance_m", e.max_goal_distance_m);
