@@ -33,7 +33,7 @@ struct OpeningConfig {
   /// wall), not a way on. A door 0.9-1.2 m wide seen from the room gives 44 cells at an 8 m
   /// range and about 1 000 at 40 m; the shadows in the room behind it 10-14. At 6 the guided
   /// flight of the paper-size cave (seed 1) flew 400 m back for a 15-cell opening once its
-  /// surface viewpoints were done: 118 s for 0.2 % of coverage.
+  /// surface viewpoints were done: 118 s for 0.4 % of coverage.
   int min_cells = 20;
   /// The viewpoint needs a known-free ball of this radius (no occupied and no unknown cell), as
   /// a surface viewpoint does (ViewpointConfig::clearance_m).
