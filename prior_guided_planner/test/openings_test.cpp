@@ -105,8 +105,8 @@ TEST(Openings, TouredWhenNoSurfaceViewpointIsLeftOrNoneIsNear) {
 }
 
 // Seen from the room with a 40 m range, the space behind the door leaves one large opening (the
-// unseen parts of the far room) and the shadows of the door's edges in it, 10-14 cells each:
-// pockets, not ways on, which the default cell bound leaves out.
+// unseen parts of the far room) and pockets in that room the rays through the door missed,
+// 10-14 cells each: not ways on, and the default cell bound leaves them out.
 TEST(Openings, ShadowsInTheRoomBehindADoorAreNoWayOn) {
   const OccupancyMap occ = scanned(true, 40.0);
   const std::vector<Opening> ways_on = findOpenings(occ, {0, 0, 1.5}, std::nullopt);
