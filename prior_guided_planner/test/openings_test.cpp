@@ -107,7 +107,7 @@ TEST(Openings, TouredWhenNoSurfaceViewpointIsLeftOrNoneIsNear) {
 // Seen from the room with a 40 m range, the space behind the door leaves one large opening (the
 // unseen parts of the far room) and pockets in that room the rays through the door missed,
 // 10-14 cells each: not ways on, and the default cell bound leaves them out.
-TEST(Openings, ShadowsInTheRoomBehindADoorAreNoWayOn) {
+TEST(Openings, PocketsInTheRoomBehindADoorAreNoWayOn) {
   const OccupancyMap occ = scanned(true, 40.0);
   const std::vector<Opening> ways_on = findOpenings(occ, {0, 0, 1.5}, std::nullopt);
   ASSERT_EQ(ways_on.size(), 1u);

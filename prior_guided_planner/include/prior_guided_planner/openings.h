@@ -30,11 +30,10 @@ namespace efs::planner {
 
 struct OpeningConfig {
   /// Clusters of fewer opening cells are pockets (a hollow in a cave wall, a corner the rays
-  /// missed), not a way on. A door 0.9-1.2 m wide seen from the room gives 44 cells at an 8 m
-  /// range and about 1 000 at 40 m; the pockets the rays through it leave in the room behind
-  /// it 10-14 (openings_test). At 6 the guided
-  /// flight of the paper-size cave (seed 1) flew 400 m back for a 15-cell opening once its
-  /// surface viewpoints were done: 118 s for 0.4 % of coverage.
+  /// missed), not a way on: a door seen from its room leaves several times this many, and a
+  /// pocket toured once nothing else is left can cost a trip across the whole map. Measured
+  /// sizes and the flight that set the value: README, "Doorways the surface frontiers cannot
+  /// see"; the door scene: openings_test.
   int min_cells = 20;
   /// The viewpoint needs a known-free ball of this radius (no occupied and no unknown cell), as
   /// a surface viewpoint does (ViewpointConfig::clearance_m).
