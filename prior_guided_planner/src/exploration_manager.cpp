@@ -86,7 +86,8 @@ ExplorationManager::ExplorationManager(const ExplorationManagerConfig& config,
       clusters_(config_.frontier),
       viewpoint_manager_(ViewpointSampler(config_.viewpoint, config_.fov)),
       path_cache_(occupancy_, config_.path),
-      planner_(config_.planner) {
+      planner_(config_.planner),
+      opening_membership_(config_.openings_stay_in_tour) {
   if (prior_) prior_->validate();
   target_.message = "no scan yet";
 }
@@ -259,9 +260,9 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
                                   config_.openings);
         return *openings;
       };
-      for (const Opening& o :
-           openingsToTour(surface, robot.position_world_m, config_.near_openings_radius_m,
-                          config_.near_openings_min_cells, find)) {
+      for (const Opening& o : opening_membership_.select(surface, robot.position_world_m,
+                                                         config_.near_openings_radius_m,
+                                                         config_.near_openings_min_cells, find)) {
         if (!candidate(o.id, reached_opening_ids_)) continue;
         vps.push_back({o.id, o.viewpoint_world_m, o.yaw_rad});
         vp_cluster.push_back(-1);

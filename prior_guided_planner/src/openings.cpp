@@ -153,4 +153,19 @@ std::vector<Opening> openingsToTour(const std::vector<Eigen::Vector3d>& surface_
   return out;
 }
 
+std::vector<Opening> OpeningTourMembership::select(
+    const std::vector<Eigen::Vector3d>& surface_viewpoints_world_m,
+    const Eigen::Vector3d& robot_world_m, double near_radius_m, int near_min_cells,
+    const std::function<const std::vector<Opening>&()>& find) {
+  if (joined_) {
+    const std::vector<Opening>& all = find();
+    joined_ = !all.empty();
+    return all;
+  }
+  std::vector<Opening> out = openingsToTour(surface_viewpoints_world_m, robot_world_m,
+                                            near_radius_m, near_min_cells, find);
+  joined_ = stay_once_joined_ && surface_viewpoints_world_m.empty() && !out.empty();
+  return out;
+}
+
 }  // namespace efs::planner

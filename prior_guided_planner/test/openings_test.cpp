@@ -104,6 +104,42 @@ TEST(Openings, TouredWhenNoSurfaceViewpointIsLeftOrNoneIsNear) {
   EXPECT_EQ(passes, 4);
 }
 
+// Plan after plan: openings join when no surface viewpoint is left and stay beside the surface
+// viewpoints that appear again (far looks add poorly observed cells) until a plan finds none.
+TEST(Openings, OnceJoinedTheyStayInTheToursUntilNoneIsFound) {
+  const Eigen::Vector3d robot(0, 0, 1.5);
+  std::vector<Opening> found = {openingAt(1, {3, 0, 1.5}, 250), openingAt(2, {40, 0, 1.5}, 30)};
+  const auto find = [&]() -> const std::vector<Opening>& { return found; };
+  const std::vector<Eigen::Vector3d> surface = {{20, 0, 1.5}};
+  const double near_m = 0.0;
+  const int min_cells = 100;
+  for (const bool stay : {true, false}) {
+    SCOPED_TRACE(stay ? "stay once joined" : "plan by plan");
+    found = {openingAt(1, {3, 0, 1.5}, 250), openingAt(2, {40, 0, 1.5}, 30)};
+    OpeningTourMembership membership(stay);
+    // Surface viewpoints left: no opening yet.
+    EXPECT_TRUE(membership.select(surface, robot, near_m, min_cells, find).empty());
+    EXPECT_FALSE(membership.joined());
+    // None left: every opening joins.
+    EXPECT_EQ(ids(membership.select({}, robot, near_m, min_cells, find)), (std::vector<int>{1, 2}));
+    EXPECT_EQ(membership.joined(), stay);
+    // A surface viewpoint again: they stay (and one found since joins them), or they leave.
+    found.push_back(openingAt(3, {0, -4, 1.5}, 20));
+    EXPECT_EQ(ids(membership.select(surface, robot, near_m, min_cells, find)),
+              stay ? (std::vector<int>{1, 2, 3}) : (std::vector<int>{}));
+    // None found any more: the membership ends, and surface viewpoints alone are toured.
+    found.clear();
+    EXPECT_TRUE(membership.select(surface, robot, near_m, min_cells, find).empty());
+    EXPECT_FALSE(membership.joined());
+    found = {openingAt(4, {5, 5, 1.5}, 400)};
+    EXPECT_TRUE(membership.select(surface, robot, near_m, min_cells, find).empty());
+    // Joining needs none left: openings that came in as near ones do not stay.
+    EXPECT_EQ(ids(membership.select(surface, {5, 0, 1.5}, 8.0, min_cells, find)),
+              (std::vector<int>{4}));
+    EXPECT_FALSE(membership.joined());
+  }
+}
+
 // Seen from the room with a 40 m range, the space behind the door leaves one large opening (the
 // unseen parts of the far room) and pockets in that room the rays through the door missed,
 // 10-14 cells each: not ways on, and the default cell bound leaves them out.

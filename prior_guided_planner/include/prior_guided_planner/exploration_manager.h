@@ -66,6 +66,13 @@ struct ExplorationManagerConfig {
   /// world's last room), the shadow of a car or a pillar in the open with a few (6 to 42 in the
   /// small garage, where touring them made the flight 32 % longer).
   int near_openings_min_cells = 100;
+  /// Once openings joined a tour (no surface viewpoint was left), every later plan tours them
+  /// beside the surface viewpoints until none is found. Joining only while no surface viewpoint
+  /// is left let far looks that add a few poorly observed cells pull them out again: a guided
+  /// SubT-scale flight turned back and forth three times in 20 s between the last surface
+  /// viewpoints in the west and openings 20-25 m north-east. Staying made every method faster
+  /// on the quick tier (README, Benchmarks); false restores the plan-by-plan membership.
+  bool openings_stay_in_tour = true;
   /// Plan at most this often [s] unless the target is reached, gone, or hypotheses changed.
   double replan_period_s = 1.0;
   /// The target counts as reached when the robot is this close to it [m].
@@ -240,6 +247,7 @@ class ExplorationManager {
   std::vector<double> robot_len_;       ///< L(X_r, V) of the last plan per viewpoint
   std::set<int> reached_viewpoint_ids_;
   std::set<int> reached_opening_ids_;  ///< openings visited (kept: one that stays is a dead end)
+  OpeningTourMembership opening_membership_;
   std::map<int, Eigen::Vector3d> opening_look_at_;  ///< per opening viewpoint id
   /// Viewpoints (and openings) set aside as unreachable, until the time given [s].
   std::map<int, double> set_aside_until_s_;

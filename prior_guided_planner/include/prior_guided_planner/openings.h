@@ -76,4 +76,26 @@ std::vector<Opening> openingsToTour(const std::vector<Eigen::Vector3d>& surface_
                                     int near_min_cells,
                                     const std::function<const std::vector<Opening>&()>& find);
 
+/// Whether openings are in the tours, plan after plan (ExplorationManagerConfig::
+/// openings_stay_in_tour). They join a tour when no surface viewpoint is left; with
+/// `stay_once_joined` every later tour keeps all of them beside the surface viewpoints that
+/// appear again, until a plan finds none. Without it, membership is openingsToTour's, plan by
+/// plan, and far looks that add a few poorly observed cells pull the openings out again.
+class OpeningTourMembership {
+ public:
+  explicit OpeningTourMembership(bool stay_once_joined) : stay_once_joined_(stay_once_joined) {}
+
+  /// The openings this plan tours (the arguments are openingsToTour's).
+  std::vector<Opening> select(const std::vector<Eigen::Vector3d>& surface_viewpoints_world_m,
+                              const Eigen::Vector3d& robot_world_m, double near_radius_m,
+                              int near_min_cells,
+                              const std::function<const std::vector<Opening>&()>& find);
+  /// They joined a tour and stay in the next ones.
+  bool joined() const { return joined_; }
+
+ private:
+  bool stay_once_joined_;
+  bool joined_ = false;
+};
+
 }  // namespace efs::planner
