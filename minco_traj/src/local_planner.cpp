@@ -18,8 +18,7 @@ void LocalPlannerConfig::validate() const {
                  50.0);
   requireInRange("local_planner.braking_first_decel_fraction", braking_first_decel_fraction, 0.1,
                  1.0);
-  requireInRange("local_planner.narrow_clearance_m", narrow_clearance_m, 0.0,
-                 corridor.clearance_m);
+  requireInRange("local_planner.narrow_clearance_m", narrow_clearance_m, 0.0, corridor.clearance_m);
   requireInRange("local_planner.narrow_v_max_mps", narrow_v_max_mps, 0.1, optimizer.v_max_mps);
 }
 
@@ -141,8 +140,18 @@ bool LocalPlanner::planNarrow(const LocalGrid& grid, const PlanRequest& req, Pla
   }
   res->goal_adjusted = res->front_end.goal_adjusted;
   res->start_escaped = res->front_end.start_escaped;
-  if (!optimizeAlong(grid, req, res->front_end.path_world_m, res, why, true)) return false;
   res->narrow = true;
+  if (optimizeAlong(grid, req, res->front_end.path_world_m, res, why, true)) return true;
+  // As with the full clearance, a vehicle still moving needs room to brake, and a corridor as
+  // narrow as a door has none unless it is seeded through the braking point.
+  std::vector<Eigen::Vector3d> braking_path;
+  if (!brakingFirstPath(grid, req, &braking_path, true)) return false;
+  std::string why_second;
+  if (!optimizeAlong(grid, req, braking_path, res, &why_second, true)) {
+    *why += "; braking first: " + why_second;
+    return false;
+  }
+  res->braked_first = true;
   return true;
 }
 
@@ -157,8 +166,8 @@ bool LocalPlanner::optimizeAlong(const LocalGrid& grid, const PlanRequest& req,
   Eigen::Matrix3d head, tail = Eigen::Matrix3d::Zero();
   head << req.p_world_m, req.v_world_mps, req.a_world_mps2;
   tail.col(0) = path.back();
-  res->optimization = (narrow ? optimizer_narrow_ : optimizer_).optimize(head, tail,
-                                                                          res->corridor.polytopes);
+  res->optimization =
+      (narrow ? optimizer_narrow_ : optimizer_).optimize(head, tail, res->corridor.polytopes);
   if (!res->optimization.ok()) {
     *why = "optimiser: " + res->optimization.message;
     return false;
@@ -172,18 +181,18 @@ bool LocalPlanner::optimizeAlong(const LocalGrid& grid, const PlanRequest& req,
 }
 
 bool LocalPlanner::brakingFirstPath(const LocalGrid& grid, const PlanRequest& req,
-                                    std::vector<Eigen::Vector3d>* path) const {
+                                    std::vector<Eigen::Vector3d>* path, bool narrow) const {
+  const AStarPlanner& astar = narrow ? astar_narrow_ : astar_;
   const double speed = req.v_world_mps.norm();
   // Slow enough to turn within a cell or two: the corridor's margin already holds the stop.
   if (speed < cfg_.braking_first_min_speed_mps) return false;
   const double decel = cfg_.braking_first_decel_fraction * cfg_.optimizer.a_max_mps2;
   // Overshoot the stopping point a little so that the polytope around the braking seed holds the
   // whole stop, whatever the optimiser makes of the time allocation.
-  const Eigen::Vector3d stop =
-      req.p_world_m + req.v_world_mps * (speed / (2.0 * decel)) +
-      req.v_world_mps.normalized() * grid.resolution();
-  if (!grid.inWindow(stop) || !astar_.lineOfSight(grid, req.p_world_m, stop)) return false;
-  const AStarResult onward = astar_.plan(grid, stop, req.goal_world_m);
+  const Eigen::Vector3d stop = req.p_world_m + req.v_world_mps * (speed / (2.0 * decel)) +
+                               req.v_world_mps.normalized() * grid.resolution();
+  if (!grid.inWindow(stop) || !astar.lineOfSight(grid, req.p_world_m, stop)) return false;
+  const AStarResult onward = astar.plan(grid, stop, req.goal_world_m);
   if (!onward.ok() || onward.path_world_m.empty()) return false;
   path->assign({req.p_world_m});
   path->insert(path->end(), onward.path_world_m.begin(), onward.path_world_m.end());

@@ -108,15 +108,16 @@ class LocalPlanner {
                   PlanResult&& partial) const;
   /// Corridor along `path`, optimisation and yaw into `res`; false with the reason in `why`.
   bool optimizeAlong(const LocalGrid& grid, const PlanRequest& req,
-                     const std::vector<Eigen::Vector3d>& path, PlanResult* res,
-                     std::string* why, bool narrow = false) const;
+                     const std::vector<Eigen::Vector3d>& path, PlanResult* res, std::string* why,
+                     bool narrow = false) const;
   /// The whole pipeline with the narrow-passage clearance and speed.
   bool planNarrow(const LocalGrid& grid, const PlanRequest& req, PlanResult* res,
                   std::string* why) const;
-  /// The start, the point just past where braking stops, then A* on to the goal; false when
-  /// the vehicle is slow, the braking segment is blocked or no path goes on from there.
+  /// The start, the point just past where braking stops, then A* on to the goal (with the
+  /// narrow-passage clearance when `narrow`); false when the vehicle is slow, the braking
+  /// segment is blocked or no path goes on from there.
   bool brakingFirstPath(const LocalGrid& grid, const PlanRequest& req,
-                        std::vector<Eigen::Vector3d>* path) const;
+                        std::vector<Eigen::Vector3d>* path, bool narrow = false) const;
   LocalPlannerConfig cfg_;
   AStarPlanner astar_, astar_narrow_;
   CorridorBuilder corridor_, corridor_narrow_;
