@@ -10,18 +10,19 @@
 namespace efs::traj {
 namespace {
 
-// A 12 x 12 x 3 m room split by a wall at x = 0 with a door around y = 1.
-LocalGrid doorWorld() {
+// A 12 x 12 x 3 m room split by a wall at x = 0 with a door around y = 1 (1.4 m wide by default,
+// between occupied cell centres).
+LocalGrid doorWorld(double door_width_m = 1.4, double inflation_radius_m = 0.3) {
   LocalGridConfig gc;
   gc.size_x_m = 12;
   gc.size_y_m = 12;
   gc.size_z_m = 3;
-  gc.inflation_radius_m = 0.3;
+  gc.inflation_radius_m = inflation_radius_m;
   LocalGrid grid(gc, Eigen::Vector3d(0, 0, 1));
   grid.setAllFree();
   for (double y = -6; y < 6; y += 0.1)
     for (double z = -1; z < 3; z += 0.1)
-      if (std::abs(y - 1.0) > 0.7) grid.setOccupied({0.05, y, z});
+      if (std::abs(y - 1.0) > 0.5 * door_width_m) grid.setOccupied({0.05, y, z});
   return grid;
 }
 
@@ -70,15 +71,7 @@ TEST(LocalPlanner, ThroughTheDoorSafelyAndWithinLimits) {
 // failed the final check, leaving their corridor by up to 0.2 m at up to 2.4 m/s; with the
 // braking seed 1 of 288 (0.75-0.8 m). In ed21 such failures gave goals up at doors.
 TEST(LocalPlanner, ANarrowDoorIsFlownFromAMovingStart) {
-  LocalGridConfig gc;
-  gc.size_x_m = 12;
-  gc.size_y_m = 12;
-  gc.size_z_m = 3;
-  LocalGrid grid(gc, Eigen::Vector3d(0, 0, 1));
-  grid.setAllFree();
-  for (double y = -6; y < 6; y += 0.1)
-    for (double z = -1; z < 3; z += 0.1)
-      if (std::abs(y - 1.0) > 0.375) grid.setOccupied({0.05, y, z});
+  const LocalGrid grid = doorWorld(0.75, LocalGridConfig().inflation_radius_m);
   const LocalPlanner planner;
   const LocalPlannerConfig& c = planner.config();
   int braked_first = 0;
