@@ -96,20 +96,7 @@ PlanResult LocalPlanner::plan(const LocalGrid& grid, const PlanRequest& req) con
   res.start_escaped = res.front_end.start_escaped;
   std::string why;
   if (res.front_end.ok()) {
-    if (optimizeAlong(grid, req, res.front_end.path_world_m, &res, &why)) return res;
-    // The shortest path may leave in another direction than the vehicle is moving, and a
-    // corridor around it then has no room to brake in (each polytope spans its seed's box plus
-    // a margin): seed the corridor through the braking point first.
-    std::vector<Eigen::Vector3d> braking_path;
-    if (brakingFirstPath(grid, req, &braking_path)) {
-      PlanResult second = res;
-      std::string why_second;
-      if (optimizeAlong(grid, req, braking_path, &second, &why_second)) {
-        second.braked_first = true;
-        return second;
-      }
-      why += "; braking first: " + why_second;
-    }
+    if (optimizeFrontEndPath(grid, req, &res, &why)) return res;
   } else {
     why = std::string("front end: ") + toString(res.front_end.status);
   }
@@ -141,17 +128,26 @@ bool LocalPlanner::planNarrow(const LocalGrid& grid, const PlanRequest& req, Pla
   res->goal_adjusted = res->front_end.goal_adjusted;
   res->start_escaped = res->front_end.start_escaped;
   res->narrow = true;
-  if (optimizeAlong(grid, req, res->front_end.path_world_m, res, why, true)) return true;
-  // As with the full clearance, a vehicle still moving needs room to brake, and a corridor as
-  // narrow as a door has none unless it is seeded through the braking point.
+  return optimizeFrontEndPath(grid, req, res, why, true);
+}
+
+bool LocalPlanner::optimizeFrontEndPath(const LocalGrid& grid, const PlanRequest& req,
+                                        PlanResult* res, std::string* why, bool narrow) const {
+  if (optimizeAlong(grid, req, res->front_end.path_world_m, res, why, narrow)) return true;
+  // The shortest path may leave in another direction than the vehicle is moving, and a
+  // corridor around it then has no room to brake in (each polytope spans its seed's box plus
+  // a margin; a narrow one, as through a door, barely more than the door): seed the corridor
+  // through the braking point first.
   std::vector<Eigen::Vector3d> braking_path;
-  if (!brakingFirstPath(grid, req, &braking_path, true)) return false;
+  if (!brakingFirstPath(grid, req, &braking_path, narrow)) return false;
+  PlanResult second = *res;
   std::string why_second;
-  if (!optimizeAlong(grid, req, braking_path, res, &why_second, true)) {
+  if (!optimizeAlong(grid, req, braking_path, &second, &why_second, narrow)) {
     *why += "; braking first: " + why_second;
     return false;
   }
-  res->braked_first = true;
+  second.braked_first = true;
+  *res = std::move(second);
   return true;
 }
 

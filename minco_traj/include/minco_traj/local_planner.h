@@ -110,6 +110,10 @@ class LocalPlanner {
   bool optimizeAlong(const LocalGrid& grid, const PlanRequest& req,
                      const std::vector<Eigen::Vector3d>& path, PlanResult* res, std::string* why,
                      bool narrow = false) const;
+  /// Along res->front_end's path, else through the braking point (brakingFirstPath): the
+  /// corridor, optimisation and yaw into `res` (the first attempt's, when both fail).
+  bool optimizeFrontEndPath(const LocalGrid& grid, const PlanRequest& req, PlanResult* res,
+                            std::string* why, bool narrow = false) const;
   /// The whole pipeline with the narrow-passage clearance and speed.
   bool planNarrow(const LocalGrid& grid, const PlanRequest& req, PlanResult* res,
                   std::string* why) const;
