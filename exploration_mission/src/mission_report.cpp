@@ -111,6 +111,12 @@ MissionReport makeReport(const ExplorationMission& mission, const std::string& w
   r.average_speed_mps = log.end_time_s > 0.0 ? log.flight_distance_m / log.end_time_s : 0.0;
   r.coverage = log.coverage;
   r.time_to_coverage_goal_s = log.time_to_coverage_goal_s;
+  const sim::SimulationSession& session = mission.session();
+  if (const auto* coverage = session.simulator().coverage()) {
+    r.coverage_truth_voxels = coverage->totalVoxels();
+  }
+  r.coverage_samples_reachable = session.coverageSamplesReachable();
+  r.coverage_samples_free = session.coverageSamplesTotal();
   r.success = log.end != MissionEnd::kCollision && log.coverage >= config.coverage_goal;
   r.replans = log.replans;
   r.emergency_stops = log.emergency_stops;
@@ -182,6 +188,9 @@ std::string toJson(const MissionReport& r) {
     << "  \"average_speed_mps\": " << jsonNumber(r.average_speed_mps) << ",\n"
     << "  \"coverage\": " << jsonNumber(r.coverage) << ",\n"
     << "  \"time_to_coverage_goal_s\": " << jsonOptional(r.time_to_coverage_goal_s) << ",\n"
+    << "  \"coverage_truth\": {\"voxels\": " << r.coverage_truth_voxels
+    << ", \"samples_reachable\": " << r.coverage_samples_reachable
+    << ", \"samples_free\": " << r.coverage_samples_free << "},\n"
     << "  \"registration_frames\": " << r.registration_frames << ",\n"
     << "  \"first_hypothesis_s\": " << jsonOptional(r.first_hypothesis_s) << ",\n"
     << "  \"registration_ttc_s\": " << jsonOptional(r.registration_ttc_s) << ",\n"
@@ -217,7 +226,10 @@ std::string toMarkdown(const MissionReport& r) {
     << "| flight distance | " << fmt(r.flight_distance_m, 1) << " m |\n"
     << "| average speed | " << fmt(r.average_speed_mps, 2) << " m/s |\n"
     << "| coverage | " << fmt(100.0 * r.coverage, 1) << " % (95 % reached at "
-    << fmtOptional(r.time_to_coverage_goal_s, 1, " s") << ") |\n";
+    << fmtOptional(r.time_to_coverage_goal_s, 1, " s") << ") |\n"
+    << "| coverage counts | " << r.coverage_truth_voxels << " surface voxels, seen from "
+    << r.coverage_samples_reachable << " of " << r.coverage_samples_free
+    << " free-space samples (those the start can reach) |\n";
   if (!r.sketch.empty()) {
     o << "| registration frames | " << r.registration_frames << " |\n"
       << "| first hypothesis | " << fmtOptional(r.first_hypothesis_s, 1, " s") << " |\n"

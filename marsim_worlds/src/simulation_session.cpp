@@ -1,12 +1,14 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include "marsim_worlds/simulation_session.h"
 
+#include <algorithm>
 #include <string>
 #include <utility>
 
 #include "efs_common/config_check.h"
 #include "efs_common/resource_usage.h"
 #include "marsim_worlds/coverage.h"
+#include "marsim_worlds/free_space_component.h"
 
 namespace efs::sim {
 
@@ -36,8 +38,16 @@ SimulationSession::SimulationSession(const SimulationSessionConfig& config, Voxe
     ObservableSurfaceConfig oc;
     oc.voxel_size_m = config_.sim.coverage.voxel_size_m;
     oc.max_range_m = config_.sim.coverage.coverage_range_m;
-    const auto samples = freeSamplePoints(
-        world_, world_.bounds(), config_.coverage_sample_spacing_m, config_.sim.vehicle_radius_m);
+    auto samples = freeSamplePoints(world_, world_.bounds(), config_.coverage_sample_spacing_m,
+                                    config_.sim.vehicle_radius_m);
+    coverage_samples_total_ = samples.size();
+    const FreeSpaceComponent reachable(world_, start().position_m);
+    samples.erase(std::remove_if(samples.begin(), samples.end(),
+                                 [&](const Eigen::Vector3d& p) { return !reachable.contains(p); }),
+                  samples.end());
+    // A world smaller than the sample spacing is still measured, from where the flight starts.
+    if (samples.empty()) samples.push_back(start().position_m);
+    coverage_samples_reachable_ = samples.size();
     sim_->setCoverageGroundTruth(observableSurfaceKeys(world_, samples, oc));
     ground_truth_s_ = watch.elapsedSeconds();
   }

@@ -32,6 +32,9 @@ struct MissionReport {
   double average_speed_mps = 0.0;
   double coverage = 0.0;
   std::optional<double> time_to_coverage_goal_s;
+  /// What coverage counts: surface voxels seen from the free-space samples the start can reach.
+  size_t coverage_truth_voxels = 0;
+  size_t coverage_samples_reachable = 0, coverage_samples_free = 0;
   // Registration (with a sketch); the error needs the truth.
   size_t registration_frames = 0;
   std::optional<double> first_hypothesis_s;

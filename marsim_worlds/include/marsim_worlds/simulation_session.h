@@ -2,9 +2,11 @@
 //
 // A world and a simulator flying in it, set up the same way for every caller (the ROS node, the
 // in-process mission, the benchmarks): the world loaded or generated, the vehicle placed at one
-// of the world's start poses, and the ground-truth observable surface computed for coverage.
+// of the world's start poses, and the ground-truth observable surface computed for coverage
+// (seen from the free space the start can reach).
 #pragma once
 
+#include <cstddef>
 #include <memory>
 
 #include "marsim_worlds/simulator.h"
@@ -40,6 +42,10 @@ class SimulationSession {
   const StartPose& start() const { return world_.start_poses[config_.start_index]; }
   /// Time spent computing the ground-truth surface (0 without coverage).
   double groundTruthSeconds() const { return ground_truth_s_; }
+  /// Free-space samples the ground-truth surface was seen from, and how many of the free ones
+  /// the start could reach (the others, outside a building or in a sealed room, are left out).
+  std::size_t coverageSamplesTotal() const { return coverage_samples_total_; }
+  std::size_t coverageSamplesReachable() const { return coverage_samples_reachable_; }
   const SimulationSessionConfig& config() const { return config_; }
 
  private:
@@ -47,6 +53,8 @@ class SimulationSession {
   VoxelWorld world_;  // declared before sim_: the simulator refers to it
   std::unique_ptr<Simulator> sim_;
   double ground_truth_s_ = 0.0;
+  std::size_t coverage_samples_total_ = 0;
+  std::size_t coverage_samples_reachable_ = 0;
 };
 
 }  // namespace efs::sim

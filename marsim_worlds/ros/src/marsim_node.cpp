@@ -85,8 +85,11 @@ MarsimNode::MarsimNode(ros::NodeHandle nh, const MarsimNodeConfig& config)
       sim_(&session_.simulator()),
       lio_messages_(config.messages) {
   if (sim_->coverage()) {
-    ROS_INFO("marsim_node: ground-truth surface of %zu voxels in %.1f s",
-             sim_->coverage()->totalVoxels(), session_.groundTruthSeconds());
+    ROS_INFO(
+        "marsim_node: ground-truth surface of %zu voxels in %.1f s, seen from the %zu of %zu "
+        "free-space samples the start can reach",
+        sim_->coverage()->totalVoxels(), session_.groundTruthSeconds(),
+        session_.coverageSamplesReachable(), session_.coverageSamplesTotal());
   }
   cloud_pub_ = nh.advertise<sensor_msgs::PointCloud2>(topics::kCloudRegistered, 5);
   odom_pub_ = nh.advertise<nav_msgs::Odometry>(topics::kOdometry, 100);
