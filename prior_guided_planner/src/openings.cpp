@@ -15,6 +15,8 @@ namespace efs::planner {
 void OpeningConfig::validate() const {
   requireInRange("openings.min_cells", min_cells, 1, 1000000);
   requireInRange("openings.viewpoint_clearance_m", viewpoint_clearance_m, 0.0, 10.0);
+  requireInRange("openings.narrow_viewpoint_clearance_m", narrow_viewpoint_clearance_m, 0.0,
+                 viewpoint_clearance_m);
   requireInRange("openings.max_backoff_m", max_backoff_m, 0.0, 100.0);
   requireInRange("openings.search_radius_m", search_radius_m, 1.0, 100000.0);
 }
@@ -32,19 +34,19 @@ bool keyLess(const VoxelKey& a, const VoxelKey& b) {
 }
 
 /// Where to look through an opening from: the first known-free place (a ball of
-/// viewpoint_clearance_m) stepping back from the opening cells nearest its centre (`starts`)
+/// `clearance_m`) stepping back from the opening cells nearest its centre (`starts`)
 /// away from the unknown side, up to max_backoff_m, a cell or two up where a floor was not
 /// seen; failing that, on the way back to the robot from the nearest cell (free space seen from
 /// afar is too sparse for a known-free ball: rays a metre apart 20 m out).
 std::optional<Eigen::Vector3d> hoverPlace(const OccupancyMap& occ,
                                           const std::vector<Eigen::Vector3d>& starts,
                                           const Eigen::Vector2d& away, const Eigen::Vector3d& robot,
-                                          const OpeningConfig& cfg) {
+                                          const OpeningConfig& cfg, double clearance_m) {
   const double res = occ.resolution();
   const auto knownFree = [&](const Eigen::Vector3d& p) -> std::optional<Eigen::Vector3d> {
     for (const int dz : {0, 1, 2}) {
       const Eigen::Vector3d q = p + Eigen::Vector3d(0, 0, dz * res);
-      if (occ.isKnownFree(q, cfg.viewpoint_clearance_m)) return q;
+      if (occ.isKnownFree(q, clearance_m)) return q;
     }
     return std::nullopt;
   };
@@ -94,7 +96,13 @@ std::vector<Opening> findOpenings(const OccupancyMap& occ, const Eigen::Vector3d
     }
     if (unknown > 0) cells.emplace(k, dir);
   });
-  // 26-connected clusters.
+  // 26-connected clusters, each with where its viewpoint search starts.
+  struct Candidate {
+    Opening opening;  ///< all but the viewpoint
+    std::vector<Eigen::Vector3d> starts;
+    Eigen::Vector2d away = Eigen::Vector2d::Zero();
+  };
+  std::vector<Candidate> candidates;
   std::unordered_set<VoxelKey, VoxelKeyHash> pending;
   for (const auto& [k, unused] : cells) pending.insert(k);
   while (!pending.empty()) {
@@ -109,26 +117,35 @@ std::vector<Opening> findOpenings(const OccupancyMap& occ, const Eigen::Vector3d
       if (keyLess(k, smallest)) smallest = k;
     }
     centroid /= static_cast<double>(cluster.size());
-    std::vector<Eigen::Vector3d> starts;
-    for (const VoxelKey& k : cluster) starts.push_back(occ.center(k));
-    std::sort(starts.begin(), starts.end(),
+    Candidate c;
+    for (const VoxelKey& k : cluster) c.starts.push_back(occ.center(k));
+    std::sort(c.starts.begin(), c.starts.end(),
               [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
                 return (a - centroid).squaredNorm() < (b - centroid).squaredNorm();
               });
-    if (starts.size() > kMaxViewpointStarts) starts.resize(kMaxViewpointStarts);
-    const Eigen::Vector2d away =
-        dir.squaredNorm() > 0.0 ? Eigen::Vector2d(-dir.normalized()) : Eigen::Vector2d::Zero();
-    const std::optional<Eigen::Vector3d> best = hoverPlace(occ, starts, away, robot, cfg);
-    if (!best) continue;
-    Opening o;
+    if (c.starts.size() > kMaxViewpointStarts) c.starts.resize(kMaxViewpointStarts);
+    if (dir.squaredNorm() > 0.0) c.away = -dir.normalized();
     // Ids live far above the observation viewpoints' (which count up from 0).
     const size_t h = VoxelKeyHash()(smallest);
-    o.id = (1 << 30) + static_cast<int>(h % (size_t{1} << 29));
-    o.viewpoint_world_m = *best;
-    o.yaw_rad = dir.squaredNorm() > 0.0 ? std::atan2(dir.y(), dir.x()) : 0.0;
-    o.cells = static_cast<int>(cluster.size());
-    out.push_back(o);
+    c.opening.id = (1 << 30) + static_cast<int>(h % (size_t{1} << 29));
+    c.opening.yaw_rad = dir.squaredNorm() > 0.0 ? std::atan2(dir.y(), dir.x()) : 0.0;
+    c.opening.cells = static_cast<int>(cluster.size());
+    candidates.push_back(std::move(c));
   }
+  const auto place = [&](double clearance_m) {
+    for (const Candidate& c : candidates) {
+      const std::optional<Eigen::Vector3d> best =
+          hoverPlace(occ, c.starts, c.away, robot, cfg, clearance_m);
+      if (!best) continue;
+      out.push_back(c.opening);
+      out.back().viewpoint_world_m = *best;
+    }
+  };
+  place(cfg.viewpoint_clearance_m);
+  // Only when no opening has room for the full ball: where one has, the flight goes on through
+  // it, and narrow places in the plan beside it made the small indoor flights slower.
+  if (out.empty() && cfg.narrow_viewpoint_clearance_m > 0.0)
+    place(cfg.narrow_viewpoint_clearance_m);
   std::sort(out.begin(), out.end(), [](const Opening& a, const Opening& b) {
     return a.cells != b.cells ? a.cells > b.cells : a.id < b.id;
   });

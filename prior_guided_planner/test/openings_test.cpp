@@ -228,6 +228,34 @@ TEST(Openings, AFarOpeningSeenSparselyGetsAViewpointOnTheWayBack) {
   EXPECT_GT(std::cos(o.yaw_rad), 0.5) << o.yaw_rad;  // looking on down the corridor
 }
 
+// A vehicle in a corridor 1 m wide, scanned with an 8 m range: the ways on are what the rays
+// left unseen along it (grazing the walls) and its rest. With 0.3 m cells no 0.5 m ball fits
+// between its walls (the cells it touches span 1.2 m), a 0.36 m ball does. Without the narrow
+// search the opening had no viewpoint: in ed21 (imported at 0.1 m) the flight started in a small
+// room whose door and the corridor behind it held no 0.5 m ball either, and the exploration
+// finished on its first plan at 2.2 % coverage.
+TEST(Openings, InACorridorTooNarrowForTheFullBallTheNarrowOneIsUsed) {
+  Scene scene;
+  scene.room = {{-1.0, -0.35, 0.0}, {20.0, 0.65, 2.5}};  // cell boundaries at y = -0.3, 0.6
+  const Eigen::Vector3d robot(0.0, 0.15, 1.35);
+  OccupancyMap occ;
+  occ.insertScan(robot, scene.scanSphere(robot, 1.0, 8.0));
+
+  OpeningConfig strict;
+  strict.narrow_viewpoint_clearance_m = 0.0;
+  EXPECT_TRUE(findOpenings(occ, robot, std::nullopt, strict).empty());
+
+  const OpeningConfig defaults;
+  const std::vector<Opening> openings = findOpenings(occ, robot, std::nullopt, defaults);
+  ASSERT_FALSE(openings.empty());
+  for (const Opening& o : openings) {
+    const Eigen::Vector3d& v = o.viewpoint_world_m;
+    EXPECT_TRUE(occ.isKnownFree(v, defaults.narrow_viewpoint_clearance_m)) << v.transpose();
+    EXPECT_FALSE(occ.isKnownFree(v, defaults.viewpoint_clearance_m)) << v.transpose();
+    EXPECT_TRUE(v.x() > 0.0 && v.x() < 8.0 && v.y() > -0.35 && v.y() < 0.65) << v.transpose();
+  }
+}
+
 TEST(Openings, BadInput) {
   OccupancyMap empty;
   EXPECT_TRUE(findOpenings(empty, {0, 0, 0}, std::nullopt).empty());
@@ -239,6 +267,16 @@ TEST(Openings, BadInput) {
   bad = {};
   bad.max_backoff_m = -1.0;
   EXPECT_THROW(findOpenings(empty, {0, 0, 0}, std::nullopt, bad), ConfigError);
+  bad = {};
+  bad.narrow_viewpoint_clearance_m = 0.6;  // larger than the full clearance
+  try {
+    findOpenings(empty, {0, 0, 0}, std::nullopt, bad);
+    ADD_FAILURE() << "no ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("openings.narrow_viewpoint_clearance_m"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

@@ -38,6 +38,10 @@ struct OpeningConfig {
   /// The viewpoint needs a known-free ball of this radius (no occupied and no unknown cell), as
   /// a surface viewpoint does (ViewpointConfig::clearance_m).
   double viewpoint_clearance_m = 0.5;
+  /// When no opening has a place for that ball, the search is made again with this smaller one
+  /// (the local planner's narrow clearance): seen from a small room, the space behind its door
+  /// is known free only along the rays through it. 0: off.
+  double narrow_viewpoint_clearance_m = 0.36;
   /// How far the viewpoint is looked for back from the opening, away from the unknown side [m],
   /// before it is looked for on the way back to the robot.
   double max_backoff_m = 2.0;
