@@ -6,8 +6,9 @@
 // importer's margin, floored and ceiled) and rooms with no open door, whose surfaces no flight
 // can see. Counting them capped the ed21 building at 55 % of its surface.
 //
-// Connectivity ignores the vehicle's size (a gap one voxel wide connects), so what a gap too
-// narrow to fly still counts: the ground truth errs towards too much surface, never too little.
+// Connectivity ignores the vehicle's size (a gap one voxel wide connects), so what lies behind
+// a gap too narrow to fly still counts: the ground truth errs towards too much surface, never
+// too little.
 // The fill is brick-wise: an all-free brick is one step and only bricks cut by a surface are
 // walked voxel by voxel, so the SubT-scale world takes seconds rather than its 8e9 voxels.
 #pragma once
