@@ -16,6 +16,7 @@ Eigen::Vector3i brickOf(const Eigen::Vector3i& v) {
 FreeSpaceComponent::FreeSpaceComponent(const VoxelWorld& world, const Eigen::Vector3d& seed_m)
     : world_(&world),
       empty_brick_reached_(static_cast<size_t>(world.dimsBricks().cast<int64_t>().prod()), 0) {
+  if (!seed_m.allFinite()) return;  // voxelOf would cast a NaN to int
   std::vector<Eigen::Vector3i> stack;
   reach(world.voxelOf(seed_m), &stack);
   while (!stack.empty()) {
@@ -97,6 +98,7 @@ void FreeSpaceComponent::expand(const Eigen::Vector3i& v, std::vector<Eigen::Vec
 }
 
 bool FreeSpaceComponent::contains(const Eigen::Vector3d& p_m) const {
+  if (!p_m.allFinite()) return false;
   const Eigen::Vector3i v = world_->voxelOf(p_m);
   if (!world_->inGrid(v)) return false;
   const Eigen::Vector3i b = brickOf(v);

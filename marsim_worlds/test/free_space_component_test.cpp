@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <deque>
+#include <limits>
 
 #include "marsim_worlds/coverage.h"
 #include "marsim_worlds/simulation_session.h"
@@ -86,11 +87,16 @@ TEST(FreeSpaceComponent, BrickWiseFillMatchesTheVoxelFillInAFreeGridWithAPillar)
   EXPECT_FALSE(c.contains(V3(3.5, 2.4, 1)));
 }
 
-TEST(FreeSpaceComponent, ASeedInRockOrOutsideTheGridReachesNothing) {
+TEST(FreeSpaceComponent, ASeedInRockOutsideTheGridOrNotFiniteReachesNothing) {
   const VoxelWorld w = twoRooms(true);
   EXPECT_EQ(FreeSpaceComponent(w, V3(0, 2, 1)).voxelCount(), 0u);
   EXPECT_FALSE(FreeSpaceComponent(w, V3(0, 2, 1)).contains(V3(-4, 0, 1.5)));
   EXPECT_EQ(FreeSpaceComponent(w, V3(100, 0, 1)).voxelCount(), 0u);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(FreeSpaceComponent(w, V3(nan, 0, 1)).voxelCount(), 0u);
+  const FreeSpaceComponent c(w, V3(-4, 0, 1.5));
+  EXPECT_FALSE(c.contains(V3(-4, nan, 1.5)));
+  EXPECT_FALSE(c.contains(V3(std::numeric_limits<double>::infinity(), 0, 1.5)));
 }
 
 TEST(FreeSpaceComponent, CoverageCountsNothingOfASealedRoom) {

@@ -26,10 +26,11 @@ namespace efs::sim {
 class FreeSpaceComponent {
  public:
   /// The component of the free voxel holding `seed_m`; empty if that voxel is occupied or outside
-  /// the grid. `world` must outlive this object and not change while it is used.
+  /// the grid, or the seed is not finite. `world` must outlive this object and not change while
+  /// it is used.
   FreeSpaceComponent(const VoxelWorld& world, const Eigen::Vector3d& seed_m);
 
-  /// True if the voxel holding `p_m` belongs to the component.
+  /// True if the voxel holding `p_m` belongs to the component (false for a non-finite point).
   bool contains(const Eigen::Vector3d& p_m) const;
   std::size_t voxelCount() const { return voxel_count_; }
 
