@@ -28,5 +28,26 @@ TEST(MissionStart, TheEd21FlightLeavesItsStartRoom) {
   EXPECT_GT(log.coverage, 0.1);
 }
 
+// The ed21 flight with sketch_ed21_1.png (0.1 m import) enters the west room at 103-105 s
+// through the 1.0-1.1 m mouth of a corridor. From the room the exploration planner's 0.6 m
+// lattice reached no viewpoint: all 21 were "unreachable" in two plans 0.1 s apart, given up,
+// and the flight finished at 105.6 s with 78 % coverage. The robot's paths are now searched
+// again on a 0.3 m lattice when the 0.6 m one reaches nothing (fine_path_resolution_factor).
+TEST(MissionStart, TheEd21FlightWithSketch1LeavesTheWestRoom) {
+  MissionSpec spec;
+  spec.world.sdf_path = testing::sharedDataPath("ed21/ed21.world");
+  spec.world.resolution_m = 0.1;
+  spec.method = "proposed";
+  spec.sketch_path = testing::sharedDataPath("ed21/sketch_ed21_1.png");
+  spec.scale_guess_m_per_px = 0.1;
+  MissionConfig config;
+  config.time_limit_s = 125.0;
+  ASSERT_EQ(config.exploration.fine_path_resolution_factor, 2);  // 1 fails: 21 given up at 105.6 s
+  const std::unique_ptr<ExplorationMission> mission = makeMission(spec, config);
+  const MissionLog& log = mission->run();
+  EXPECT_STREQ(toString(log.end), toString(MissionEnd::kTimeLimit)) << log.end_message;
+  EXPECT_EQ(mission->explorationManager().inputStats().viewpoints_given_up, 0u);
+}
+
 }  // namespace
 }  // namespace efs::mission

@@ -29,6 +29,7 @@ void ExplorationManagerConfig::validate() const {
   requireInRange("target_progress_timeout_s", target_progress_timeout_s, 0.1, 1e6);
   requireInRange("unreachable_retry_s", unreachable_retry_s, 0.0, 1e6);
   requireInRange("unreachable_attempts", unreachable_attempts, 1, 1000);
+  requireInRange("fine_path_resolution_factor", fine_path_resolution_factor, 1, 8);
   requireInRange("unreachable_near_m", unreachable_near_m, 0.0, 1e3);
   requireInRange("max_goal_distance_m", max_goal_distance_m, 1.0, 1e4);
   requireInRange("max_goal_climb_m", max_goal_climb_m, 0.5, 1e4);
@@ -89,6 +90,11 @@ ExplorationManager::ExplorationManager(const ExplorationManagerConfig& config,
       planner_(config_.planner),
       opening_membership_(config_.openings_stay_in_tour) {
   if (prior_) prior_->validate();
+  if (config_.fine_path_resolution_factor > 1) {
+    PathSearchConfig fine = config_.path;
+    fine.search_resolution_m /= config_.fine_path_resolution_factor;
+    fine_search_ = std::make_unique<PathSearch>(occupancy_, fine);
+  }
   target_.message = "no scan yet";
 }
 
@@ -300,6 +306,19 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   for (const std::optional<double>& l :
        path_cache_.search().lengthsFrom(robot.position_world_m, targets))
     robot_len_.push_back(l ? *l : kUnreachable);
+  // None reachable: the robot may stand where the lattice's spacing finds no way out (a narrow
+  // mouth), so its paths are searched again on the fine lattice.
+  robot_on_fine_lattice_ = false;
+  if (fine_search_ && !targets.empty() &&
+      std::all_of(robot_len_.begin(), robot_len_.end(),
+                  [](double l) { return l == kUnreachable; })) {
+    const auto fine = fine_search_->lengthsFrom(robot.position_world_m, targets);
+    for (size_t i = 0; i < fine.size(); ++i) {
+      if (!fine[i]) continue;
+      robot_len_[i] = *fine[i];
+      robot_on_fine_lattice_ = true;
+    }
+  }
   in.path_length_m = makePathLengthFn(path_cache_, robot_len_, viewpoints_);
   in.hypotheses = hypotheses_;
   in.prior = prior_ ? &*prior_ : nullptr;
@@ -456,7 +475,7 @@ bool ExplorationManager::withinGoalReach(const Eigen::Vector3d& from,
 Eigen::Vector3d ExplorationManager::stagedGoal(const Eigen::Vector3d& from,
                                                const Eigen::Vector3d& viewpoint) {
   if (withinGoalReach(from, viewpoint)) return viewpoint;
-  const PathSearchResult r = path_cache_.search().search(from, viewpoint);
+  const PathSearchResult r = searchFromRobot(from, viewpoint);
   if (!r.length_m || r.waypoints_world_m.size() < 2) return viewpoint;
   const double inf = std::numeric_limits<double>::infinity();
   return goalAlongPath(r.waypoints_world_m, inf, inf,
@@ -467,7 +486,7 @@ Eigen::Vector3d ExplorationManager::tourGoal(const Eigen::Vector3d& from,
                                              const std::vector<int>& tour) {
   const PlanViewpoint& first = viewpoints_[tour.front()];
   if (config_.tour_lookahead_m <= 0.0) return first.position_world_m;
-  const PathSearchResult r = path_cache_.search().search(from, first.position_world_m);
+  const PathSearchResult r = searchFromRobot(from, first.position_world_m);
   if (!r.length_m || r.waypoints_world_m.size() < 2) return first.position_world_m;
   std::vector<Eigen::Vector3d> path = r.waypoints_world_m;
   double length = *r.length_m;
@@ -489,6 +508,13 @@ Eigen::Vector3d ExplorationManager::tourGoal(const Eigen::Vector3d& from,
   // and never reached the first viewpoint (seen in the garage).
   return goalAlongPath(path, config_.tour_lookahead_m, to_first_m,
                        [&](const Eigen::Vector3d& p) { return withinGoalReach(from, p); });
+}
+
+PathSearchResult ExplorationManager::searchFromRobot(const Eigen::Vector3d& from,
+                                                     const Eigen::Vector3d& to) {
+  PathSearchResult r = path_cache_.search().search(from, to);
+  if (!r.length_m && robot_on_fine_lattice_) r = fine_search_->search(from, to);
+  return r;
 }
 
 const HypothesisAttachment* ExplorationManager::activeAttachment() const {

@@ -58,6 +58,7 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("unreachable_retry_s", e.unreachable_retry_s);
   p.get("unreachable_attempts", e.unreachable_attempts);
   p.get("unreachable_near_m", e.unreachable_near_m);
+  p.get("fine_path_resolution_factor", e.fine_path_resolution_factor);
   p.get("opening_search_radius_m", e.openings.search_radius_m);
   p.get("opening_min_cells", e.openings.min_cells);
   p.get("opening_narrow_clearance_m", e.openings.narrow_viewpoint_clearance_m);
