@@ -246,7 +246,7 @@ class ExplorationManager {
   FrontierClusterer clusters_;
   ViewpointManager viewpoint_manager_;
   PathLengthCache path_cache_;
-  /// The same search at fine_path_resolution_factor of the lattice spacing, asked only when the
+  /// The same search on a lattice fine_path_resolution_factor times finer, asked only when the
   /// lattice reaches no viewpoint from the robot (nullptr when the factor is 1).
   std::unique_ptr<PathSearch> fine_search_;
   bool robot_on_fine_lattice_ = false;
