@@ -1,8 +1,10 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 //
-// The first seconds of a real building's flight, closed loop: the simulator, the exploration
-// planner and the local planner as explore_mission runs them.
+// Stretches of real-building flights that ended early, closed loop: the simulator, the
+// exploration planner and the local planner as explore_mission runs them.
 #include <gtest/gtest.h>
+
+#include <string>
 
 #include "efs_common/testing/paths.h"
 #include "exploration_mission/mission_spec.h"
@@ -10,15 +12,21 @@
 namespace efs::mission {
 namespace {
 
-// ed21 imported at 0.1 m voxels (as the exploration benchmark does) starts the vehicle in a
-// small room whose door opens onto a corridor. Seen from there, no place behind the door holds a
-// 0.5 m known-free ball: the opening had no viewpoint, and the exploration "finished" on its
-// first plan, at 0.1 s with 2.2 % coverage. With the narrow clearance for openings it leaves.
-TEST(MissionStart, TheEd21FlightLeavesItsStartRoom) {
+// ed21 imported at 0.1 m voxels, as the exploration benchmark does.
+MissionSpec ed21At10cm(const std::string& method) {
   MissionSpec spec;
   spec.world.sdf_path = testing::sharedDataPath("ed21/ed21.world");
   spec.world.resolution_m = 0.1;
-  spec.method = "prior_free";
+  spec.method = method;
+  return spec;
+}
+
+// At 0.1 m, ed21 starts the vehicle in a small room whose door opens onto a corridor. Seen
+// from there, no place behind the door holds a 0.5 m known-free ball: the opening had no viewpoint,
+// and the exploration "finished" on its first plan, at 0.1 s with 2.2 % coverage. With the narrow
+// clearance for openings it leaves.
+TEST(MissionStart, TheEd21FlightLeavesItsStartRoom) {
+  const MissionSpec spec = ed21At10cm("prior_free");
   MissionConfig config;
   config.time_limit_s = 12.0;
   const std::unique_ptr<ExplorationMission> mission = makeMission(spec, config);
@@ -34,10 +42,7 @@ TEST(MissionStart, TheEd21FlightLeavesItsStartRoom) {
 // and the flight finished at 105.6 s with 78 % coverage. The robot's paths are now searched
 // again on a 0.3 m lattice when the 0.6 m one reaches nothing (fine_path_resolution_factor).
 TEST(MissionStart, TheEd21FlightWithSketch1LeavesTheWestRoom) {
-  MissionSpec spec;
-  spec.world.sdf_path = testing::sharedDataPath("ed21/ed21.world");
-  spec.world.resolution_m = 0.1;
-  spec.method = "proposed";
+  MissionSpec spec = ed21At10cm("proposed");
   spec.sketch_path = testing::sharedDataPath("ed21/sketch_ed21_1.png");
   spec.scale_guess_m_per_px = 0.1;
   MissionConfig config;

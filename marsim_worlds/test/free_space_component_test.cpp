@@ -3,11 +3,11 @@
 
 #include <gtest/gtest.h>
 
-#include <deque>
 #include <limits>
 
 #include "marsim_worlds/coverage.h"
 #include "marsim_worlds/simulation_session.h"
+#include "plain_flood_fill.h"
 
 namespace efs::sim {
 namespace {
@@ -28,31 +28,12 @@ VoxelWorld twoRooms(bool door) {
   return w;
 }
 
-// The plain voxel-by-voxel flood fill, as the reference the brick-wise one must match.
+// The plain voxel-by-voxel flood fill over the whole grid, the reference to match.
 std::size_t referenceCount(const VoxelWorld& w, const V3& seed) {
-  const Eigen::Vector3i n = w.dimsVoxels();
-  std::vector<uint8_t> seen(static_cast<size_t>(n.prod()), 0);
-  const auto index = [&](const Eigen::Vector3i& v) {
-    return (static_cast<size_t>(v.z()) * n.y() + v.y()) * n.x() + v.x();
-  };
-  std::deque<Eigen::Vector3i> queue{w.voxelOf(seed)};
-  seen[index(queue.front())] = 1;
-  std::size_t count = 0;
-  while (!queue.empty()) {
-    const Eigen::Vector3i v = queue.front();
-    queue.pop_front();
-    ++count;
-    for (int a = 0; a < 3; ++a) {
-      for (const int s : {-1, 1}) {
-        Eigen::Vector3i u = v;
-        u[a] += s;
-        if (!w.inGrid(u) || w.occupied(u) || seen[index(u)]) continue;
-        seen[index(u)] = 1;
-        queue.push_back(u);
-      }
-    }
-  }
-  return count;
+  return testing::plainFloodFill(Eigen::Vector3i::Zero(), w.dimsVoxels() - Eigen::Vector3i::Ones(),
+                                 w.voxelOf(seed),
+                                 [&](const Eigen::Vector3i& v) { return !w.occupied(v); })
+      .reached;
 }
 
 TEST(FreeSpaceComponent, ASealedRoomIsNotReachedAndADoorJoinsIt) {

@@ -4,10 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <deque>
 #include <vector>
 
 #include "efs_common/config_check.h"
+#include "plain_flood_fill.h"
 
 namespace efs::sim {
 namespace {
@@ -29,52 +29,21 @@ double enclosedFraction(const VoxelWorld& w) {
 
 // Voxels of the exploration box the vehicle could occupy but cannot reach from the start: a voxel
 // is passable when a sphere of `radius_m` at its centre is collision-free (radius 0: the voxel is
-// free), and passable voxels connect to their 6 neighbours. Coverage ground truth samples the
-// whole box, so any such voxel (a room without a door, a door narrower than the vehicle) would
-// count surfaces no flight can see.
+// free), and passable voxels connect to their 6 neighbours. Coverage's ground truth leaves out
+// what a point cannot reach from the start (FreeSpaceComponent), not what only the vehicle
+// cannot: behind a door narrower than the vehicle it would count surfaces no flight can see.
 size_t unreachablePassableVoxels(const VoxelWorld& w, double radius_m) {
   const Eigen::Vector3d eps = Eigen::Vector3d::Constant(1e-9);
   const Eigen::Vector3i lo = w.voxelOf(w.bounds().min() + eps).cwiseMax(0);
   const Eigen::Vector3i hi =
       w.voxelOf(w.bounds().max() - eps).cwiseMin(w.dimsVoxels() - Eigen::Vector3i::Ones());
-  const Eigen::Vector3i n = hi - lo + Eigen::Vector3i::Ones();
-  auto index = [&](const Eigen::Vector3i& v) {
-    const Eigen::Vector3i d = v - lo;
-    return d.x() + static_cast<size_t>(n.x()) * (d.y() + static_cast<size_t>(n.y()) * d.z());
-  };
   auto passable = [&](const Eigen::Vector3i& v) {
     const Eigen::Vector3d c = w.voxelCenter(v);
     return radius_m > 0.0 ? !w.collides(c, radius_m) : !w.occupied(v) && w.bounds().contains(c);
   };
-  std::vector<uint8_t> open(static_cast<size_t>(n.prod()), 0);  // 1 passable, 2 reached
-  size_t total = 0;
-  for (int z = lo.z(); z <= hi.z(); ++z)
-    for (int y = lo.y(); y <= hi.y(); ++y)
-      for (int x = lo.x(); x <= hi.x(); ++x)
-        if (passable({x, y, z})) {
-          open[index({x, y, z})] = 1;
-          ++total;
-        }
-  const Eigen::Vector3i start = w.voxelOf(w.start_poses.front().position_m);
-  if (open[index(start)] != 1) return total;
-  std::deque<Eigen::Vector3i> queue{start};
-  open[index(start)] = 2;
-  size_t reached = 0;
-  while (!queue.empty()) {
-    const Eigen::Vector3i v = queue.front();
-    queue.pop_front();
-    ++reached;
-    for (int a = 0; a < 3; ++a) {
-      for (int s : {-1, 1}) {
-        Eigen::Vector3i u = v;
-        u[a] += s;
-        if (u[a] < lo[a] || u[a] > hi[a] || open[index(u)] != 1) continue;
-        open[index(u)] = 2;
-        queue.push_back(u);
-      }
-    }
-  }
-  return total - reached;
+  const testing::FloodFillCount c =
+      testing::plainFloodFill(lo, hi, w.voxelOf(w.start_poses.front().position_m), passable);
+  return c.passable - c.reached;
 }
 
 TEST(WorldGenerators, ReachabilityCheckFindsAClosedRoomAndANarrowDoor) {
