@@ -27,6 +27,8 @@ TEST(RegistrationLog, OneLinePerFrameWithTheBestHypothesisAndTheQuotedReason) {
   best.confidence = 0.75;
   best.coverage = 0.9;
   best.T_world_sketch = Sim2(0.5, 1.6, Eigen::Vector2d(-4.0, 7.5));
+  best.T_world_sketch.stretch = 1.05;
+  best.T_world_sketch.stretch_axis_rad = 0.25;
   found.hypotheses = {best, registration::Hypothesis{}};
 
   std::ostringstream out;
@@ -34,9 +36,11 @@ TEST(RegistrationLog, OneLinePerFrameWithTheBestHypothesisAndTheQuotedReason) {
   const std::vector<std::string> l = testing::textLines(out.str());
   ASSERT_EQ(l.size(), 3u);
   EXPECT_EQ(l[0].rfind("time_s,status,hypotheses,best_id,", 0), 0u);
-  EXPECT_EQ(l[1], R"(5,all_rejected_by_fitness,0,,,,,,,,,,"8 transforms refined, none with F )"
+  EXPECT_EQ(l[1], R"(5,all_rejected_by_fitness,0,,,,,,,,,,,,"8 transforms refined, none with F )"
                   R"(below 0.6 m, ""see"" above")");
-  EXPECT_EQ(l[2], R"(10,ok,2,3,0.12,0.75,0.9,1.6,0.5,-4,7.5,0,"2 hypotheses; best F = 0.12 m")");
+  EXPECT_EQ(
+      l[2],
+      R"(10,ok,2,3,0.12,0.75,0.9,1.6,0.5,-4,7.5,0,1.05,0.25,"2 hypotheses; best F = 0.12 m")");
 }
 
 }  // namespace

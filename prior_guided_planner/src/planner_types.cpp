@@ -13,6 +13,9 @@ std::optional<std::string> hypothesisDefect(const Hypothesis& h) {
   if (!h.T_world_sketch.isFinite()) return "transform is not finite (NaN or inf)";
   if (!(h.T_world_sketch.scale > 0.0))
     return "scale " + std::to_string(h.T_world_sketch.scale) + " is not positive";
+  if (!(h.T_world_sketch.stretch >= 1.0))
+    return "stretch " + std::to_string(h.T_world_sketch.stretch) +
+           " is below 1 (a negative log_stretch)";
   if (!std::isfinite(h.confidence) || h.confidence < 0.0)
     return "confidence " + std::to_string(h.confidence) + " is not a finite number >= 0";
   return std::nullopt;

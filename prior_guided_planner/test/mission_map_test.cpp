@@ -3,9 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <octomap/OcTree.h>
 #include <filesystem>
 #include <fstream>
-#include <octomap/OcTree.h>
 #include <sstream>
 
 #include "efs_common/config_check.h"
@@ -100,7 +100,8 @@ TEST(MissionMap, SavesCloudOctomapTrackAndRegistration) {
   const std::string yaml = readAll(saved.registration_yaml);
   EXPECT_NE(yaml.find("active_hypothesis_id: 7"), std::string::npos) << yaml;
   EXPECT_NE(yaml.find("{id: 7, yaw_rad: 0.29999999999999999, scale: 0.12, t_x_m: 4, t_y_m: -2, "
-                      "reflected: false, confidence: 0.80000000000000004}"),
+                      "reflected: false, stretch: 1, stretch_axis_rad: 0, "
+                      "confidence: 0.80000000000000004}"),
             std::string::npos)
       << yaml;
   EXPECT_NE(yaml.find("id: 9"), std::string::npos);

@@ -98,6 +98,11 @@ TEST(ViewpointAttachment, RejectsUnusableHypothesesWithAReason) {
   h.T_world_sketch.scale = -2.0;
   EXPECT_NE(hypothesisDefect(h)->find("not positive"), std::string::npos);
   h = hyp();
+  h.T_world_sketch.stretch = 0.9;  // exp of a negative log_stretch off the wire
+  EXPECT_NE(hypothesisDefect(h)->find("stretch 0.9"), std::string::npos);
+  h.T_world_sketch.stretch = 1.06;
+  EXPECT_FALSE(hypothesisDefect(h).has_value());
+  h = hyp();
   h.confidence = -0.1;
   EXPECT_TRUE(hypothesisDefect(h).has_value());
   EXPECT_FALSE(hypothesisDefect(hyp()).has_value());

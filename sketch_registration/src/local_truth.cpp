@@ -14,14 +14,15 @@ double placementRms(const Points2d& sketch_m, const Sim2& a, const Sim2& b) {
 }
 
 LocalTruth::LocalTruth(const Points2d& world_m, const Points2d& sketch_m, double radius_m,
-                       bool reflected)
-    : sketch_m_(sketch_m), radius_m_(radius_m), reflected_(reflected) {
+                       bool reflected, double max_stretch)
+    : sketch_m_(sketch_m), radius_m_(radius_m), reflected_(reflected), max_stretch_(max_stretch) {
   if (world_m.size() != sketch_m.size()) {
     throw std::invalid_argument("LocalTruth: " + std::to_string(world_m.size()) +
                                 " world points but " + std::to_string(sketch_m.size()) +
                                 " sketch points");
   }
   if (!(radius_m > 0.0)) throw std::invalid_argument("LocalTruth: radius_m must be positive");
+  if (!(max_stretch >= 1.0)) throw std::invalid_argument("LocalTruth: max_stretch must be >= 1");
   world_tree_ =
       std::make_unique<PointKdTree<2>>(PointKdTree<2>::Points(world_m.begin(), world_m.end()));
   is_seen_.assign(world_m.size(), 0);
@@ -43,7 +44,8 @@ const std::optional<Sim2Fit>& LocalTruth::fit() const {
   cached_count_ = seen_sketch_m_.size();
   cached_.reset();
   if (seen_sketch_m_.size() < 2) return cached_;
-  const Sim2Fit f = fitSim2(seen_sketch_m_, seen_world_m_, reflected_);
+  const Sim2Fit f =
+      fitStretchedSim2(seen_sketch_m_, seen_world_m_, reflected_, 0.0, 1e300, max_stretch_);
   if (f.ok) cached_ = f;
   return cached_;
 }

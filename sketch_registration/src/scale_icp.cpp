@@ -23,6 +23,7 @@ void ScaleIcpConfig::validate() const {
   requirePositive("scale_min", scale_min);
   requireThat(scale_max >= scale_min, "scale_max", "must be >= scale_min");
   requireInRange("max_scale_step", max_scale_step, 0.0, 10.0);
+  requireInRange("max_stretch", max_stretch, 1.0, 2.0);
   requirePositive("convergence_m", convergence_m);
   requirePositive("anneal_when_moved_m", anneal_when_moved_m);
   requireInRange("fitness_trim_ratio", fitness_trim_ratio, 0.05, 1.0);
@@ -93,6 +94,14 @@ struct Pair {
 }  // namespace
 
 namespace {
+/// World distance from `p` to the sketch point `c` nearest (in the sketch frame, `d2_sketch` away)
+/// to its preimage. For a similarity that is the sketch distance times the scale; a stretch makes
+/// it depend on the direction.
+double worldDistance(const Sim2& T, const Eigen::Vector2d& c, double d2_sketch,
+                     const Eigen::Vector2d& p) {
+  return T.isSimilarity() ? T.scale * std::sqrt(d2_sketch) : (T.apply(c) - p).norm();
+}
+
 /// Trimmed mean of the `ratio` smallest values and the fraction of values <= `inlier`.
 std::pair<double, double> trimmedMean(std::vector<double>& d, double ratio, double inlier) {
   const size_t keep = std::max<size_t>(1, static_cast<size_t>(ratio * d.size()));
@@ -136,7 +145,8 @@ Sim2 ScaleIcp::coarseSearch(const Sim2& T0, const Points2d& observed,
         sum += cap;
         continue;
       }
-      sum += std::min(cap, T.scale * std::sqrt(sketch_->nearest(q).second));
+      const auto nn = sketch_->nearest(q);
+      sum += std::min(cap, worldDistance(T, sketch_->points()[nn.first], nn.second, p));
     }
     double cost = sum / static_cast<double>(sample.size());
     // One-sided distances favour a smaller scale (denser sketch walls are always near); the
@@ -199,7 +209,8 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
   for (const auto& p : observed) {
     const Eigen::Vector2d q = inv.apply(p);
     if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
-    d.push_back(T.scale * std::sqrt(sketch_->nearest(q).second));
+    const auto nn = sketch_->nearest(q);
+    d.push_back(worldDistance(T, sketch_->points()[nn.first], nn.second, p));
   }
   r.num_points = static_cast<int>(d.size());
   if (r.num_points < config_.min_points) return r;
@@ -264,7 +275,9 @@ HistoryFit ScaleIcp::historyFit(const Sim2& T, const Points2d& remembered) const
     const Eigen::Vector2d q = inv.apply(p);
     if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
     ++h.inside;
-    h.explained += T.scale * std::sqrt(sketch_->nearest(q).second) <= config_.inlier_distance_m;
+    const auto nn = sketch_->nearest(q);
+    h.explained +=
+        worldDistance(T, sketch_->points()[nn.first], nn.second, p) <= config_.inlier_distance_m;
   }
   return h;
 }
@@ -303,7 +316,7 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
       const Eigen::Vector2d q = inv.apply(p);
       if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
       const auto nn = sketch_->nearest(q);
-      const double d = T.scale * std::sqrt(nn.second);
+      const double d = worldDistance(T, sketch_->points()[nn.first], nn.second, p);
       if (d <= max_corr) pairs.push_back({d, sketch_->points()[nn.first], p});
     }
     if (static_cast<int>(pairs.size()) < config_.min_points) break;
@@ -336,7 +349,12 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
     }
     const double s_lo = std::max(config_.scale_min, T.scale * (1.0 - config_.max_scale_step));
     const double s_hi = std::min(config_.scale_max, T.scale * (1.0 + config_.max_scale_step));
-    const Sim2Fit fit = fitSim2(c, p, T.reflected, std::min(s_lo, s_hi), std::max(s_lo, s_hi), &w);
+    // The stretch is refined only at the final capture radius: from a far start, distant pairs
+    // would pull it (and with it the rest) into a wrong minimum. Until then it is held.
+    const bool stretch_free = config_.max_stretch > 1.0 && max_corr <= config_.min_correspondence_m;
+    const double stretch_max = stretch_free ? config_.max_stretch : 1.0;
+    const Sim2Fit fit = fitStretchedSim2(c, p, T.reflected, std::min(s_lo, s_hi),
+                                         std::max(s_lo, s_hi), stretch_max, &w, &T);
     if (!fit.ok) break;
     // Motion of the observed centroid's preimage: one number for rotation, scale and shift.
     Eigen::Vector2d cm = Eigen::Vector2d::Zero();
@@ -344,7 +362,8 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
     cm /= static_cast<double>(c.size());
     const double moved = (fit.T_world_sketch.apply(cm) - T.apply(cm)).norm() +
                          std::abs(angleDiff(fit.T_world_sketch.yaw_rad, T.yaw_rad)) * 10.0 +
-                         std::abs(fit.T_world_sketch.scale / T.scale - 1.0) * 10.0;
+                         std::abs(fit.T_world_sketch.scale / T.scale - 1.0) * 10.0 +
+                         std::abs(fit.T_world_sketch.stretch - T.stretch) * 10.0;
     T = fit.T_world_sketch;
     // Narrow the capture radius only once the transform settles at the current one: shrinking it
     // early freezes a far-off start in a local minimum.

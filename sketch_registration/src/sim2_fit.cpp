@@ -55,6 +55,100 @@ Sim2Fit fitSim2(const Points2d& c_sketch, const Points2d& p_world, bool reflecte
   return out;
 }
 
+namespace {
+/// The stretch (determinant 1) of a symmetric positive definite `m`, its ratio capped at
+/// stretch_max; false if `m` is not positive definite.
+bool boundedStretch(const Eigen::Matrix2d& m, double stretch_max, Eigen::Matrix2d* stretch) {
+  if (!(m.determinant() > 0.0 && m.trace() > 0.0)) return false;
+  Sim2 only_stretch = Sim2::fromLinear(m, Eigen::Vector2d::Zero());  // yaw 0: m is symmetric
+  only_stretch.stretch = std::min(only_stretch.stretch, stretch_max);
+  *stretch = only_stretch.stretchMatrix();
+  return true;
+}
+}  // namespace
+
+Sim2Fit fitStretchedSim2(const Points2d& c_sketch, const Points2d& p_world, bool reflected,
+                         double scale_min, double scale_max, double stretch_max,
+                         const std::vector<double>* weights, const Sim2* start) {
+  const size_t n = std::min(c_sketch.size(), p_world.size());
+  if (!(stretch_max > 1.0) && (!start || start->isSimilarity())) {
+    return fitSim2(c_sketch, p_world, reflected, scale_min, scale_max, weights);
+  }
+  if (n < 2) return {};
+  Eigen::Matrix2d S = start ? start->stretchMatrix() : Eigen::Matrix2d::Identity();
+  double wsum = 0.0;
+  Eigen::Vector2d cm = Eigen::Vector2d::Zero(), pm = Eigen::Vector2d::Zero();
+  for (size_t i = 0; i < n; ++i) {
+    const double w = weights ? (*weights)[i] : 1.0;
+    wsum += w;
+    cm += w * c_sketch[i];
+    pm += w * p_world[i];
+  }
+  if (!(wsum > 0.0)) return {};
+  cm /= wsum;
+  pm /= wsum;
+  // The stretch is observable only where the points spread along both axes.
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero(), cross = Eigen::Matrix2d::Zero();
+  for (size_t i = 0; i < n; ++i) {
+    const double w = weights ? (*weights)[i] : 1.0;
+    const Eigen::Vector2d c = c_sketch[i] - cm;
+    cov += w * c * c.transpose();
+    cross += w * (p_world[i] - pm) * c.transpose();
+  }
+  const double spread_lo = 0.5 * cov.trace() - std::hypot(0.5 * (cov(0, 0) - cov(1, 1)), cov(0, 1));
+  const bool refined = stretch_max > 1.0 && spread_lo > 0.01 * cov.trace();
+  if (refined) {
+    // Start from the stretch of the unconstrained affine fit (capped): alternating from no
+    // stretch converges slowly where the points spread far more along one axis (a hall, a
+    // tunnel).
+    const Sim2 affine = Sim2::fromLinear(cross * cov.inverse(), Eigen::Vector2d::Zero());
+    if (affine.isFinite() && affine.reflected == reflected) {
+      Sim2 capped;
+      capped.stretch = std::min(affine.stretch, stretch_max);
+      capped.stretch_axis_rad = affine.stretch_axis_rad;
+      S = capped.stretchMatrix();
+    }
+  }
+  const Eigen::Matrix2d F =
+      reflected ? Eigen::Vector2d(1, -1).asDiagonal().toDenseMatrix() : Eigen::Matrix2d::Identity();
+  Sim2Fit fit;
+  Points2d c(n);
+  constexpr int kRounds = 6;
+  for (int round = 0; round < kRounds; ++round) {
+    for (size_t i = 0; i < n; ++i) c[i] = S * c_sketch[i];
+    fit = fitSim2(c, p_world, reflected, scale_min, scale_max, weights);
+    if (!fit.ok || !refined || round + 1 == kRounds) break;
+    // Given R: p - pm = s R F S (c - cm), so F R^T (p - pm) = M (c - cm) with M = s S symmetric.
+    const Eigen::Matrix2d Rt =
+        Eigen::Rotation2Dd(fit.T_world_sketch.yaw_rad).toRotationMatrix().transpose();
+    Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d atb = Eigen::Vector3d::Zero();
+    for (size_t i = 0; i < n; ++i) {
+      const double w = weights ? (*weights)[i] : 1.0;
+      const Eigen::Vector2d u = c_sketch[i] - cm, v = F * (Rt * (p_world[i] - pm));
+      const Eigen::Vector3d rx(u.x(), u.y(), 0.0), ry(0.0, u.x(), u.y());
+      ata += w * (rx * rx.transpose() + ry * ry.transpose());
+      atb += w * (rx * v.x() + ry * v.y());
+    }
+    const Eigen::Vector3d m = ata.ldlt().solve(atb);
+    Eigen::Matrix2d M;
+    M << m(0), m(1), m(1), m(2);
+    if (!m.allFinite() || !boundedStretch(M, stretch_max, &S)) break;
+  }
+  if (!fit.ok) return fit;
+  // fitSim2 saw S c: the transform of c is s R F S.
+  const Sim2 T = Sim2::fromLinear(fit.T_world_sketch.linear() * S, fit.T_world_sketch.t_m);
+  fit.T_world_sketch = T;
+  double ss = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    const double w = weights ? (*weights)[i] : 1.0;
+    ss += w * (T.apply(c_sketch[i]) - p_world[i]).squaredNorm();
+  }
+  fit.rms_residual_m = std::sqrt(ss / wsum);
+  fit.ok = T.isFinite() && T.scale > 0.0;
+  return fit;
+}
+
 Sim2Fit fitSim2Either(const Points2d& c_sketch, const Points2d& p_world, bool prefer_reflected,
                       double ambiguity_ratio) {
   const Sim2Fit proper = fitSim2(c_sketch, p_world, false);

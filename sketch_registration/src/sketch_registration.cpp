@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "efs_common/config_check.h"
+#include "sketch_registration/sim2_fit.h"
 
 namespace efs::registration {
 
@@ -79,6 +80,7 @@ void SketchRegistrationConfig::validate() const {
   retrievalConfig(*this).validate();
   verifierConfig(*this).validate();
   scaleIcpConfig(*this).validate();
+  requireInRange("stretch_min_fitness_gain", stretch_min_fitness_gain, 0.0, 1.0);
   observation.validate();
 }
 
@@ -164,8 +166,13 @@ SketchRegistration::SketchRegistration(const Config& config, Points2d sketch_bou
   }
   database_ = CandidateDatabase(sketch_, std::move(candidates_m), sketchDescriptorConfig(config_),
                                 sketchRangeLevelsM(config_));
-  icp_ = std::make_unique<ScaleIcp>(sketch_, scaleIcpConfig(config_));
-  ScaleIcpConfig screen = scaleIcpConfig(config_);
+  ScaleIcpConfig similarity = scaleIcpConfig(config_);
+  similarity.max_stretch = 1.0;
+  icp_ = std::make_unique<ScaleIcp>(sketch_, similarity);
+  if (config_.icp.max_stretch > 1.0) {
+    stretch_icp_ = std::make_unique<ScaleIcp>(icp_->sketchIndex(), scaleIcpConfig(config_));
+  }
+  ScaleIcpConfig screen = similarity;
   screen.coarse_yaw_steps = screen.coarse_scale_steps = 0;
   screen.max_iterations = config_.screen_iterations;
   screen.iteration_points = 0;
@@ -418,6 +425,37 @@ std::vector<Sim2> SketchRegistration::newInputs(const Points2d& icp_points) cons
   return out;
 }
 
+IcpResult SketchRegistration::refineLive(const Sim2& T, const Points2d& points,
+                                         double start_correspondence_m,
+                                         const ObservedIndex& observed) const {
+  if (!stretch_icp_) return icp_->refine(T, points, start_correspondence_m, &observed);
+  // The similarity competes from the one closest to T over these walls: T without its stretch
+  // lies metres off far from the sketch's origin.
+  Sim2 T_similarity(T.yaw_rad, T.scale, T.t_m, T.reflected);
+  if (!T.isSimilarity()) {
+    const Sim2 T_inverse = T.inverse();
+    Points2d sketch_m;
+    sketch_m.reserve(points.size());
+    for (const auto& p : points) sketch_m.push_back(T_inverse.apply(p));
+    const Sim2Fit closest = fitSim2(sketch_m, points, T.reflected);
+    if (closest.ok) T_similarity = closest.T_world_sketch;
+  }
+  return stretchedIfBetter(icp_->refine(T_similarity, points, start_correspondence_m, &observed), T,
+                           points, start_correspondence_m, observed);
+}
+
+IcpResult SketchRegistration::stretchedIfBetter(const IcpResult& similarity, const Sim2& T,
+                                                const Points2d& points,
+                                                double start_correspondence_m,
+                                                const ObservedIndex& observed) const {
+  const IcpResult stretched = stretch_icp_->refine(T, points, start_correspondence_m, &observed);
+  const bool stretch_earns_its_place =
+      stretched.usable && !stretched.T_world_sketch.isSimilarity() &&
+      (!similarity.usable ||
+       stretched.fitness_m < (1.0 - config_.stretch_min_fitness_gain) * similarity.fitness_m);
+  return stretch_earns_its_place ? stretched : similarity;
+}
+
 void SketchRegistration::updateHypotheses(const Points2d& icp_points, const ObservedIndex& observed,
                                           FrameDiagnostics& diag) {
   struct Input {
@@ -474,7 +512,14 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
       return x.usable && x.inside_ratio >= bounds.min_inside;
     };
     // Live hypotheses were refined last frame: a narrow capture radius suffices.
-    IcpResult r = icp_->refine(in.T, icp_points, in.id ? narrow_m : 0.0, &observed);
+    IcpResult r = in.id ? refineLive(in.T, icp_points, narrow_m, observed)
+                        : icp_->refine(in.T, icp_points, 0.0, &observed);
+    // A new transform that fits the window nearly well enough as a similarity may fit it with a
+    // stretch (a drawing whose aspect is off); one far off is not given the extra freedom.
+    if (!in.id && stretch_icp_ && r.usable &&
+        r.fitness_m <= kJointFitnessFactor * config_.fitness_threshold_m) {
+      r = stretchedIfBetter(r, r.T_world_sketch, icp_points, narrow_m, observed);
+    }
     // A new input whose window fit is far from the new-hypothesis bounds is not refined again
     // over the remembered walls: the joint fit is judged by the window's fit at its transform,
     // which the window's own refinement already optimised (on a 190 x 150 m garage ~120 inputs a
@@ -488,7 +533,7 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
       // it would slide back to the window's loose optimum, metres off at the remembered walls
       // and beyond the narrow capture radius. A new one starts from its window fit, with the
       // wide radius (a 2 % scale error is 2 m at 100 m).
-      const IcpResult g = in.id ? icp_->refine(in.T, joint, narrow_m, &observed)
+      const IcpResult g = in.id ? refineLive(in.T, joint, narrow_m, observed)
                                 : icp_->refine(r.T_world_sketch, joint,
                                                config_.icp.max_correspondence_m, &observed);
       // The window's own fit at the joint transform decides, as without a history.

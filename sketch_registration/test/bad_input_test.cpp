@@ -158,6 +158,12 @@ TEST(BadInput, ConfigValidationNamesTheKey) {
   c.retrieval.eta = 2.0;
   expectKey(c, "eta");
   c = {};
+  c.icp.max_stretch = 0.9;  // a stretch is >= 1 by definition
+  expectKey(c, "max_stretch");
+  c = {};
+  c.stretch_min_fitness_gain = 1.5;
+  expectKey(c, "stretch_min_fitness_gain");
+  c = {};
   c.confidence_tau = -1.0;
   expectKey(c, "confidence_tau");
   c = {};

@@ -78,6 +78,23 @@ TEST(LocalTruth, MirroredDrawingIsFitAsAMirror) {
   EXPECT_NEAR(truth.placementRms(mirror), 0.0, 1e-6);
 }
 
+TEST(LocalTruth, AStretchedDrawingIsFitWithTheStretchWhereTheRegistrationHasOne) {
+  const TwoPartDrawing d;
+  Sim2 T_world_sketch(0.7, 2.0, Vector2d(3.0, 1.0));
+  T_world_sketch.stretch = 1.07;
+  T_world_sketch.stretch_axis_rad = 0.3;
+  Points2d sketch_m;
+  for (const Vector2d& p : d.world_m) sketch_m.push_back(T_world_sketch.inverse().apply(p));
+  LocalTruth stretched(d.world_m, sketch_m, 120.0, false, 1.1);
+  LocalTruth similarity(d.world_m, sketch_m, 120.0, false);
+  for (LocalTruth* t : {&stretched, &similarity}) t->observeFrom({100.0, 10.0});
+  ASSERT_TRUE(stretched.fit() && similarity.fit());
+  EXPECT_NEAR(stretched.placementRms(T_world_sketch), 0.0, 1e-6);
+  EXPECT_NEAR(stretched.fit()->T_world_sketch.stretch, 1.07, 1e-6);
+  EXPECT_TRUE(similarity.fit()->T_world_sketch.isSimilarity());
+  EXPECT_GT(similarity.fit()->rms_residual_m, 1.0);
+}
+
 TEST(LocalTruth, BadArgumentsAreNamed) {
   const TwoPartDrawing d;
   Points2d fewer = d.sketch_m;
@@ -85,6 +102,7 @@ TEST(LocalTruth, BadArgumentsAreNamed) {
   EXPECT_THROW(LocalTruth(d.world_m, fewer, 30.0, false), std::invalid_argument);
   EXPECT_THROW(LocalTruth(d.world_m, d.sketch_m, 0.0, false), std::invalid_argument);
   EXPECT_THROW(LocalTruth(d.world_m, d.sketch_m, std::nan(""), false), std::invalid_argument);
+  EXPECT_THROW(LocalTruth(d.world_m, d.sketch_m, 30.0, false, 0.9), std::invalid_argument);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include "efs_common/angles.h"
 #include "efs_common/config_check.h"
+#include "sketch_registration/sim2_fit.h"
 #include "sketch_registration/synthetic_scene.h"
 
 namespace efs::registration {
@@ -20,13 +21,15 @@ struct IcpScene {
   Points2d observed_world;
   Sim2 truth;
   Vector2d robot_world;
+  std::vector<size_t> stop_ends;  ///< observed_world[0, stop_ends[k]) was seen by stop k
+  Points2d stops_world;
 };
 
-IcpScene makeScene() {
+IcpScene makeScene(const Sim2& truth = Sim2(0.8, 1.4, Vector2d(12.0, -5.0))) {
   IcpScene s;
   const syn::FloorPlan plan = syn::makeOfficeFloor();
   s.sketch = syn::samplePlan(plan, 0.1);
-  s.truth = Sim2(0.8, 1.4, Vector2d(12.0, -5.0));
+  s.truth = truth;
   const syn::FloorPlan world = syn::transformed(plan, s.truth);
   std::mt19937 rng(4);
   std::normal_distribution<double> n(0.0, 0.03);
@@ -36,6 +39,8 @@ IcpScene makeScene() {
     for (const auto& h : syn::castRays(world, s.robot_world, 360, 30.0)) {
       s.observed_world.push_back(h + Vector2d(n(rng), n(rng)));
     }
+    s.stop_ends.push_back(s.observed_world.size());
+    s.stops_world.push_back(s.robot_world);
   }
   return s;
 }
@@ -122,6 +127,55 @@ TEST(ScaleIcp, ConvergesFromPerturbedStart) {
       EXPECT_TRUE(!r.valid || r.fitness_m > 0.6) << init.toString();
     }
   }
+}
+
+/// Refines along the robot's stops as a live hypothesis is (each stop's walls added to the
+/// earlier ones, warm-started from the last fit), from the best similarity over the first stop's
+/// walls (where the triplets and their refinement put a new hypothesis).
+IcpResult trackedFit(const IcpScene& s, const ScaleIcpConfig& config) {
+  Points2d first_sketch, first_world;
+  for (size_t i = 0; i < s.stop_ends.front(); ++i) {
+    first_world.push_back(s.observed_world[i]);
+    first_sketch.push_back(s.truth.inverse().apply(first_world.back()));
+  }
+  Sim2 T = fitSim2(first_sketch, first_world, false).T_world_sketch;
+  const ScaleIcp icp(s.sketch, config);
+  IcpResult r;
+  for (size_t k = 0; k < s.stop_ends.size(); ++k) {
+    const Points2d seen(s.observed_world.begin(), s.observed_world.begin() + s.stop_ends[k]);
+    const PointKdTree2d tree(PointKdTree2d::Points(seen.begin(), seen.end()));
+    const ObservedIndex index{&tree, s.stops_world[k]};
+    r = icp.refine(T, seen, k == 0 ? 0.0 : 1.5, &index);
+    T = r.T_world_sketch;
+  }
+  return r;
+}
+
+TEST(ScaleIcp, ABoundedStretchIsRefinedWhereTheDrawingsAspectIsOff) {
+  // The office drawn 6 % too long along 20 deg and 6 % too narrow across it: the best similarity
+  // over the first stop's walls is metres off at the far end of the 60 m floor.
+  Sim2 truth(0.8, 1.4, Vector2d(12.0, -5.0));
+  truth.stretch = 1.06;
+  truth.stretch_axis_rad = deg2rad(20);
+  const IcpScene s = makeScene(truth);
+  ScaleIcpConfig config;
+  config.max_stretch = 1.1;
+  const IcpResult stretched = trackedFit(s, config);
+  EXPECT_TRUE(stretched.valid);
+  EXPECT_NEAR(stretched.T_world_sketch.stretch, 1.06, 0.005);
+  EXPECT_NEAR(angleDiff(2.0 * stretched.T_world_sketch.stretch_axis_rad, deg2rad(40)), 0.0,
+              deg2rad(4));
+  EXPECT_LT(worstWallError(stretched.T_world_sketch, s), 0.3)
+      << stretched.T_world_sketch.toString();
+  EXPECT_LT(stretched.fitness_m, 0.1);
+  // A similarity slides one room along.
+  const IcpResult similarity = trackedFit(s, ScaleIcpConfig{});
+  EXPECT_TRUE(similarity.T_world_sketch.isSimilarity());
+  EXPECT_GT(worstWallError(similarity.T_world_sketch, s), 3.0);
+  EXPECT_GT(similarity.fitness_m, 3.0 * stretched.fitness_m);
+  // Capped below the truth, the stretch stops at the cap.
+  config.max_stretch = 1.03;
+  EXPECT_LE(trackedFit(s, config).T_world_sketch.stretch, 1.03 + 1e-9);
 }
 
 TEST(ScaleIcp, FitnessSeparatesRightFromWrong) {

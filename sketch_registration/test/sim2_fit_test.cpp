@@ -61,6 +61,51 @@ TEST(Sim2Fit, LeastSquaresWithNoiseAndBoundedScale) {
       fitSim2({Vector2d(1, 1), Vector2d(1, 1)}, {Vector2d(0, 0), Vector2d(1, 0)}, false).ok);
 }
 
+TEST(Sim2Fit, StretchedFitRecoversAKnownStretchWithinItsBound) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-30, 30);
+  for (bool mirror : {false, true}) {
+    Sim2 truth(2.1, 1.9, Vector2d(40, -12), mirror);
+    truth.stretch = 1.08;
+    truth.stretch_axis_rad = 0.5;
+    Points2d c, p;
+    for (int i = 0; i < 300; ++i) {
+      c.emplace_back(u(rng), u(rng));
+      p.push_back(truth.apply(c.back()));
+    }
+    const Sim2Fit fit = fitStretchedSim2(c, p, mirror, 0.1, 10.0, 1.15);
+    ASSERT_TRUE(fit.ok);
+    EXPECT_NEAR((fit.T_world_sketch.matrix() - truth.matrix()).norm(), 0.0, 1e-6);
+    EXPECT_LT(fit.rms_residual_m, 1e-5);
+    // A similarity cannot: the same pairs leave metres.
+    EXPECT_GT(fitSim2(c, p, mirror).rms_residual_m, 1.0);
+    // Capped below the truth, the fit stops at the cap.
+    const Sim2Fit capped = fitStretchedSim2(c, p, mirror, 0.1, 10.0, 1.04);
+    ASSERT_TRUE(capped.ok);
+    EXPECT_NEAR(capped.T_world_sketch.stretch, 1.04, 1e-9);
+    EXPECT_LT(capped.rms_residual_m, fitSim2(c, p, mirror).rms_residual_m);
+    // Without stretch allowed it is the similarity fit.
+    EXPECT_TRUE(
+        fitStretchedSim2(c, p, mirror, 0.1, 10.0, 1.0).T_world_sketch.isSimilarity());
+  }
+}
+
+TEST(Sim2Fit, StretchedFitKeepsTheStartingStretchWhereItCannotBeSeen) {
+  // Points on one line say nothing about the stretch across it.
+  Sim2 start(0.3, 1.0, Vector2d::Zero());
+  start.stretch = 1.05;
+  start.stretch_axis_rad = 0.2;
+  Points2d c, p;
+  for (int i = 0; i < 20; ++i) {
+    c.emplace_back(i, 0.0);
+    p.emplace_back(2.0 * i, 1.0);
+  }
+  const Sim2Fit fit = fitStretchedSim2(c, p, false, 0.1, 10.0, 1.2, nullptr, &start);
+  ASSERT_TRUE(fit.ok);
+  EXPECT_NEAR(fit.T_world_sketch.stretch, 1.05, 1e-9);
+  EXPECT_LT(fit.rms_residual_m, 1e-9);
+}
+
 TEST(Sim2Fit, TransformDistanceFollowsThePaperWeights) {
   const TransformDistanceWeights w;  // 5 / 10 / 1
   const Sim2 a(0.1, 1.0, Vector2d(0, 0)), b(0.3, 1.5, Vector2d(3, 4));

@@ -47,7 +47,8 @@
 // Registration parameters for ablations: --eta, --downsample-radius-m, --max-candidates-per-frame,
 // --fitness-threshold-m, --min-inlier-ratio,
 // --kept-fitness-threshold-m, --kept-min-inlier-ratio, --forward-inlier-slack,
-// --slack-min-reverse-ratio, --kept-min-inside-ratio, --screen-points,
+// --slack-min-reverse-ratio, --max-stretch, --stretch-min-fitness-gain, --kept-min-inside-ratio,
+// --screen-points,
 // --inlier-distance-m, --slice-min-dz-m, --slice-max-dz-m, --wall-columns 0|1, --column-cell-m,
 // --wall-min-height-m, --wall-max-gap-m, --wall-top-clear-m, --wall-continuation-m, --icp-range-m,
 // --max-range-m, --unknown-empty-bins 0|1,
@@ -775,12 +776,13 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
       mapped.push_back(sketch.T_world_sketch->apply(p));
     truth_tree = treeOf(mapped);
   }
-  // A deformed drawing is judged against the similarity that holds over the walls seen so far,
-  // not the sidecar's best fit over the whole drawing (local_truth.h).
+  // A deformed drawing is judged against the transform (of the registration's family) that holds
+  // over the walls seen so far, not the sidecar's best similarity over the whole drawing
+  // (local_truth.h).
   std::optional<reg::LocalTruth> local_truth;
   if (opt.variant == sim::SketchVariant::kDeformed && sketch.T_world_sketch) {
     local_truth.emplace(sketch.drawn_world_m, sketch.drawn_sketch_m, opt.local_truth_radius_m,
-                        sketch.T_world_sketch->reflected);
+                        sketch.T_world_sketch->reflected, config.icp.max_stretch);
   }
   struct Judgement {
     bool success = false;
@@ -904,13 +906,15 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
           const Judgement j = judge(h.T_world_sketch);
           std::fprintf(
               stderr,
-              "           %s %d: F %.2f inliers %.2f coverage %.2f age %d scale %.3f yaw %.1f deg; "
+              "           %s %d: F %.2f inliers %.2f coverage %.2f age %d scale %.3f yaw %.1f deg "
+              "stretch %.3f along %.0f deg; "
               "history %d in %d, inliers %.2f; "
               "walls median %.2f m, on world %.0f %%, world covered %.0f %%, placement %.2f "
               "m%s%s\n",
               list == &r.hypotheses ? "hypothesis" : "mirrored", h.id, h.fitness_m, h.inlier_ratio,
               h.coverage, h.age_frames, h.T_world_sketch.scale,
-              h.T_world_sketch.yaw_rad * 180.0 / M_PI, h.history.inside, h.history.points,
+              h.T_world_sketch.yaw_rad * 180.0 / M_PI, h.T_world_sketch.stretch,
+              h.T_world_sketch.stretch_axis_rad * 180.0 / M_PI, h.history.inside, h.history.points,
               h.history.inlierRatio(), j.wall.median_m, 100.0 * j.wall.inlier_ratio,
               100.0 * j.wall.coverage, j.placement_m,
               local_truth ? (", local " + fmt(j.local_placement_m) + " m").c_str() : "",
@@ -941,14 +945,16 @@ TrialResult runTrial(const Options& opt, const sim::VoxelWorld& world, const Rou
           const reg::Sim2Fit& lt = *local_truth->fit();
           const reg::IcpResult le = registration.evaluateOnLastFrame(lt.T_world_sketch);
           const reg::HistoryFit lh = registration.historyFit(lt.T_world_sketch);
-          std::fprintf(stderr,
-                       "           local truth: scale %.4f yaw %.2f deg, residual %.2f m over %zu "
-                       "walls seen, sidecar truth %.2f m from it; F %.2f inliers %.2f valid %d; "
-                       "history inliers %.2f\n",
-                       lt.T_world_sketch.scale, lt.T_world_sketch.yaw_rad * 180.0 / M_PI,
-                       lt.rms_residual_m, local_truth->seenCount(),
-                       local_truth->placementRms(*diag_truth), le.fitness_m, le.inlierRatio(),
-                       le.valid, lh.inlierRatio());
+          std::fprintf(
+              stderr,
+              "           local truth: scale %.4f yaw %.2f deg stretch %.3f along %.0f deg, "
+              "residual %.2f m over %zu "
+              "walls seen, sidecar truth %.2f m from it; F %.2f inliers %.2f valid %d; "
+              "history inliers %.2f\n",
+              lt.T_world_sketch.scale, lt.T_world_sketch.yaw_rad * 180.0 / M_PI,
+              lt.T_world_sketch.stretch, lt.T_world_sketch.stretch_axis_rad * 180.0 / M_PI,
+              lt.rms_residual_m, local_truth->seenCount(), local_truth->placementRms(*diag_truth),
+              le.fitness_m, le.inlierRatio(), le.valid, lh.inlierRatio());
         }
         const reg::Observation obs =
             reg::observe(cloud, p, config.observation, config.descriptor.max_range_m);
@@ -1017,6 +1023,8 @@ Options parse(int argc, char** argv) {
                         "forward-inlier-slack",
                         "screen-points",
                         "slack-min-reverse-ratio",
+                        "max-stretch",
+                        "stretch-min-fitness-gain",
                         "kept-min-inside-ratio",
                         "inlier-distance-m",
                         "column-cell-m",
@@ -1097,6 +1105,8 @@ Options parse(int argc, char** argv) {
   overrideNumber("kept-min-inlier-ratio", o.registration.kept_min_inlier_ratio);
   overrideNumber("forward-inlier-slack", o.registration.icp.forward_inlier_slack);
   overrideNumber("slack-min-reverse-ratio", o.registration.icp.slack_min_reverse_ratio);
+  overrideNumber("max-stretch", o.registration.icp.max_stretch);
+  overrideNumber("stretch-min-fitness-gain", o.registration.stretch_min_fitness_gain);
   o.registration.screen_points =
       static_cast<int>(args.integer("screen-points", o.registration.screen_points));
   overrideNumber("kept-min-inside-ratio", o.registration.kept_min_inside_ratio);

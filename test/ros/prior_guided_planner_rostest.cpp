@@ -3,9 +3,10 @@
 // prior_guided_planner_node driven with synthetic input: odometry inside a closed corridor room
 // and full-sphere scans ray cast in it (world frame, like lio_bridge's scan_world). A target
 // ahead in the corridor, the tour and the status arrive; bad input (NaN points, a cloud without
-// xyz, a cloud in another frame, a hypothesis with NaN scale, odometry back in time) is logged
-// and the node keeps planning. With a sketch of the room and the right hypothesis the plan is
-// prior-guided and the guidepoints carry states. Bad configuration stops the node at start-up.
+// xyz, a cloud in another frame, a hypothesis with NaN scale or a negative log_stretch, odometry
+// back in time) is logged and the node keeps planning. With a sketch of the room and the right
+// hypothesis the plan is prior-guided and the guidepoints carry states. Bad configuration stops the
+// node at start-up.
 #include <explore_from_sketch/ExplorationStatus.h>
 #include <explore_from_sketch/Guidepoints.h>
 #include <explore_from_sketch/RegistrationHypotheses.h>
@@ -228,6 +229,13 @@ TEST_F(PlannerNodeTest, BadInputIsReportedAndTheNodeKeepsPlanning) {
   hyps.hypotheses.push_back(h);
   hyp_pub_.publish(hyps);
   EXPECT_TRUE(logs.waitFor(kNode, "hypothesis 7 refused", 3.0));
+  // A negative log_stretch (a stretch below 1 is a shrink mislabelled): refused by name.
+  hyps.hypotheses[0].id = 8;
+  hyps.hypotheses[0].scale = 1.0;
+  hyps.hypotheses[0].log_stretch = -0.1;
+  hyp_pub_.publish(hyps);
+  EXPECT_TRUE(logs.waitFor(kNode, "hypothesis 8 refused: stretch 0.90", 3.0));
+  hyps.hypotheses[0].log_stretch = 0.0;
   hyps.header.frame_id = "camera_init";
   hyps.hypotheses[0].scale = 1.0;
   hyp_pub_.publish(hyps);

@@ -195,7 +195,10 @@ class SketchRegistrationNodeTest : public ::testing::Test {
   }
 
   static Sim2 toSim2(const explore_from_sketch::RegistrationHypothesis& h) {
-    return Sim2(h.yaw, h.scale, Vector2d(h.tx, h.ty), h.reflected);
+    Sim2 T(h.yaw, h.scale, Vector2d(h.tx, h.ty), h.reflected);
+    T.stretch = std::exp(h.log_stretch);
+    T.stretch_axis_rad = h.stretch_axis;
+    return T;
   }
 
   /// Largest distance between where `T` and the truth put the sketch's wall samples.

@@ -1,7 +1,11 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 //
-// The 2D similarity transform that maps the sketch's metric frame into the world (LIO) frame:
-//   p_world_xy = scale * R(yaw) * p_sketch + t.
+// The 2D transform that maps the sketch's metric frame into the world (LIO) frame:
+//   p_world_xy = scale * R(yaw) * F * S * p_sketch + t,
+// a similarity (the paper's model, S = I) or, with a stretch S, any 2D affine map. F = diag(1, -1)
+// for a mirror-image drawing, else I. S is symmetric with determinant 1: a hand drawing's aspect
+// error (a hall drawn 8 % too long and 8 % too narrow), which no similarity absorbs over a large
+// drawing. Registration bounds it; this type does not.
 // TF cannot carry scale, which is why this type (not a tf2 transform) travels between modules.
 #pragma once
 
@@ -12,14 +16,17 @@
 
 namespace efs {
 
-/// 2D similarity transform: rotation by `yaw_rad`, uniform `scale`, then translation `t_m`.
-/// Optionally a reflection about the source x axis is applied first (`reflected`), which is how a
-/// mirror-image sketch is registered.
+/// Rotation by `yaw_rad`, uniform `scale`, then translation `t_m`; before them, optionally a
+/// reflection about the source x axis (`reflected`, a mirror-image sketch) and a stretch.
 struct Sim2 {
   double yaw_rad = 0.0;
   double scale = 1.0;
   Eigen::Vector2d t_m = Eigen::Vector2d::Zero();
   bool reflected = false;
+  /// The source is stretched by `stretch` (>= 1) along the source-frame direction
+  /// `stretch_axis_rad` and shrunk by 1 / stretch across it (area kept). 1: a similarity.
+  double stretch = 1.0;
+  double stretch_axis_rad = 0.0;
 
   Sim2() = default;
   Sim2(double yaw, double s, const Eigen::Vector2d& t, bool reflect = false)
@@ -27,12 +34,23 @@ struct Sim2 {
 
   static Sim2 identity() { return Sim2(); }
 
-  /// The linear part s * R * F, where F = diag(1, -1) if reflected.
+  bool isSimilarity() const { return stretch == 1.0; }
+
+  /// S: symmetric, determinant 1, eigenvalues stretch and 1 / stretch.
+  Eigen::Matrix2d stretchMatrix() const {
+    const double c = std::cos(stretch_axis_rad), sn = std::sin(stretch_axis_rad);
+    Eigen::Matrix2d q;
+    q << c, -sn, sn, c;
+    return q * Eigen::Vector2d(stretch, 1.0 / stretch).asDiagonal() * q.transpose();
+  }
+
+  /// The linear part s * R * F * S.
   Eigen::Matrix2d linear() const {
     const double c = std::cos(yaw_rad), sn = std::sin(yaw_rad);
     Eigen::Matrix2d a;
     a << c, -sn, sn, c;
     if (reflected) a.col(1) = -a.col(1);
+    if (!isSimilarity()) a = a * stretchMatrix();
     return scale * a;
   }
 
@@ -64,22 +82,13 @@ struct Sim2 {
     return m;
   }
 
-  /// Decomposes a linear map that is a (possibly reflected) scaled rotation. The caller is
-  /// responsible for `l` being of that form (least-squares fits produce it by construction).
-  static Sim2 fromLinear(const Eigen::Matrix2d& l, const Eigen::Vector2d& t) {
-    Sim2 out;
-    const double det = l.determinant();
-    out.reflected = det < 0.0;
-    out.scale = std::sqrt(std::abs(det));
-    Eigen::Matrix2d r = l / out.scale;
-    if (out.reflected) r.col(1) = -r.col(1);
-    out.yaw_rad = std::atan2(r(1, 0), r(0, 0));
-    out.t_m = t;
-    return out;
-  }
+  /// Decomposes an invertible linear map into s * R * F * S (polar decomposition; unique). A map
+  /// that is a scaled rotation within rounding comes back with stretch exactly 1.
+  static Sim2 fromLinear(const Eigen::Matrix2d& l, const Eigen::Vector2d& t);
 
   bool isFinite() const {
-    return std::isfinite(yaw_rad) && std::isfinite(scale) && t_m.allFinite();
+    return std::isfinite(yaw_rad) && std::isfinite(scale) && t_m.allFinite() &&
+           std::isfinite(stretch) && std::isfinite(stretch_axis_rad);
   }
 
   std::string toString() const;

@@ -262,6 +262,8 @@ void PriorGuidedPlannerNode::onHypotheses(
     Hypothesis h;
     h.id = static_cast<int>(m.id);
     h.T_world_sketch = Sim2(m.yaw, m.scale, Eigen::Vector2d(m.tx, m.ty), m.reflected);
+    h.T_world_sketch.stretch = std::exp(m.log_stretch);
+    h.T_world_sketch.stretch_axis_rad = m.stretch_axis;
     h.confidence = m.confidence;
     if (const auto why = hypothesisDefect(h))
       reject("hypothesis " + std::to_string(h.id) + " refused: " + *why);

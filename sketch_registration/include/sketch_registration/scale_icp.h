@@ -9,7 +9,8 @@
 // observed wall with its sketch wall and leaves unobserved parts of the sketch out. Observed
 // points that fall outside the sketch's extent (a partial sketch) are ignored. Correspondences are
 // trimmed (the worst fraction and those beyond an annealed distance are dropped) and the scale is
-// bounded, both overall and per iteration.
+// bounded, both overall and per iteration. Optionally a bounded stretch is refined too (a drawing
+// whose aspect ratio is off, which no similarity fits over a large drawing).
 #pragma once
 
 #include <algorithm>
@@ -34,7 +35,10 @@ struct ScaleIcpConfig {
   double trim_ratio = 0.95;           ///< keep this fraction of the closest pairs
   double scale_min = 0.4;             ///< world metres per sketch metre
   double scale_max = 2.5;
-  double max_scale_step = 0.1;        ///< relative scale change per iteration
+  double max_scale_step = 0.1;  ///< relative scale change per iteration
+  /// Largest stretch (Sim2::stretch) refined: a drawing whose aspect ratio is off by up to this
+  /// factor along some axis. 1 is the paper's similarity.
+  double max_stretch = 1.0;
   double convergence_m = 1e-3;        ///< stop when the transform moves less than this
   double anneal_when_moved_m = 0.05;  ///< shrink the radius once a step moves less than this
   double fitness_trim_ratio = 0.8;    ///< F over this fraction of the closest observed points

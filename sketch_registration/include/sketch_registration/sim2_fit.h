@@ -25,6 +25,16 @@ Sim2Fit fitSim2(const Points2d& c_sketch, const Points2d& p_world, bool reflecte
                 double scale_min = 0.0, double scale_max = 1e300,
                 const std::vector<double>* weights = nullptr);
 
+/// As fitSim2, with a stretch of at most `stretch_max` fitted too: a drawing whose aspect ratio
+/// is off.
+/// Alternates the similarity fit of the stretched sketch points with the least-squares symmetric
+/// map given the rotation; starts from `start`'s stretch (none if null). Where the stretch is not
+/// fitted (stretch_max <= 1, or nearly collinear points that leave it unobservable) it stays as
+/// started and only the similarity is fitted.
+Sim2Fit fitStretchedSim2(const Points2d& c_sketch, const Points2d& p_world, bool reflected,
+                         double scale_min, double scale_max, double stretch_max,
+                         const std::vector<double>* weights = nullptr, const Sim2* start = nullptr);
+
 /// Fits both the proper and the reflected transform and keeps the smaller residual; when the two
 /// are within `ambiguity_ratio` of each other (collinear points), `prefer_reflected` decides.
 Sim2Fit fitSim2Either(const Points2d& c_sketch, const Points2d& p_world, bool prefer_reflected,

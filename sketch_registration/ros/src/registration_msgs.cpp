@@ -2,6 +2,7 @@
 #include "sketch_registration_ros/registration_msgs.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace efs::registration {
@@ -44,6 +45,8 @@ RegistrationHypotheses toHypothesesMsg(const RegistrationResult& result,
     m.tx = h.T_world_sketch.t_m.x();
     m.ty = h.T_world_sketch.t_m.y();
     m.reflected = h.T_world_sketch.reflected;
+    m.log_stretch = std::log(h.T_world_sketch.stretch);
+    m.stretch_axis = h.T_world_sketch.stretch_axis_rad;
     m.fitness = h.fitness_m;
     m.confidence = h.confidence;
     msg.hypotheses.push_back(m);
@@ -116,6 +119,10 @@ visualization_msgs::MarkerArray toMarkers(const RegistrationResult& result,
     std::snprintf(text, sizeof(text), "hypothesis %d: confidence %.2f, F %.2f m, scale %.3f",
                   best->id, best->confidence, best->fitness_m, best->T_world_sketch.scale);
     label.text = text;
+    if (!best->T_world_sketch.isSimilarity()) {
+      std::snprintf(text, sizeof(text), ", stretch %.3f", best->T_world_sketch.stretch);
+      label.text += text;
+    }
     label.pose.position = point(result.last_frame.robot_world_m, z_m + 2.0);
     label.scale.z = 1.0;
     label.color = confidenceColour(best->confidence);

@@ -62,6 +62,8 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   p.get("kept_min_inlier_ratio", r.kept_min_inlier_ratio);
   p.get("forward_inlier_slack", r.icp.forward_inlier_slack);
   p.get("slack_min_reverse_ratio", r.icp.slack_min_reverse_ratio);
+  p.get("max_stretch", r.icp.max_stretch);
+  p.get("stretch_min_fitness_gain", r.stretch_min_fitness_gain);
   p.get("min_inside_ratio", r.icp.min_inside_ratio);
   p.get("kept_min_inside_ratio", r.kept_min_inside_ratio);
   p.get("confirm_frames", r.confirm_frames);
