@@ -94,13 +94,29 @@ struct Pair {
 }  // namespace
 
 namespace {
-/// World distance from `p` to the sketch point `c` nearest (in the sketch frame, `d2_sketch` away)
-/// to its preimage. For a similarity that is the sketch distance times the scale; a stretch makes
-/// it depend on the direction.
-double worldDistance(const Sim2& T, const Eigen::Vector2d& c, double d2_sketch,
-                     const Eigen::Vector2d& p) {
-  return T.isSimilarity() ? T.scale * std::sqrt(d2_sketch) : (T.apply(c) - p).norm();
-}
+/// A transform's matrices, computed once: Sim2::apply recomputes them (sines and cosines, and
+/// with a stretch a second rotation) for every point, and these loops map thousands.
+class Mapping {
+ public:
+  explicit Mapping(const Sim2& T)
+      : T_(T), linear_(T.linear()), inverse_(T.inverse()), inverse_linear_(inverse_.linear()) {}
+  Eigen::Vector2d toWorld(const Eigen::Vector2d& c) const { return linear_ * c + T_.t_m; }
+  Eigen::Vector2d toSketch(const Eigen::Vector2d& p) const {
+    return inverse_linear_ * p + inverse_.t_m;
+  }
+  /// World distance from `p` to the sketch point `c` nearest (in the sketch frame, `d2_sketch`
+  /// away) to its preimage. For a similarity that is the sketch distance times the scale; a
+  /// stretch makes it depend on the direction.
+  double worldDistance(const Eigen::Vector2d& c, double d2_sketch, const Eigen::Vector2d& p) const {
+    return T_.isSimilarity() ? T_.scale * std::sqrt(d2_sketch) : (toWorld(c) - p).norm();
+  }
+
+ private:
+  Sim2 T_;
+  Eigen::Matrix2d linear_;
+  Sim2 inverse_;
+  Eigen::Matrix2d inverse_linear_;
+};
 
 /// Trimmed mean of the `ratio` smallest values and the fraction of values <= `inlier`.
 std::pair<double, double> trimmedMean(std::vector<double>& d, double ratio, double inlier) {
@@ -137,16 +153,16 @@ Sim2 ScaleIcp::coarseSearch(const Sim2& T0, const Points2d& observed,
     }
   }
   auto cost = [&](const Sim2& T) {
-    const Sim2 inv = T.inverse();
+    const Mapping m(T);
     double sum = 0.0;
     for (const auto& p : sample) {
-      const Eigen::Vector2d q = inv.apply(p);
+      const Eigen::Vector2d q = m.toSketch(p);
       if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) {
         sum += cap;
         continue;
       }
       const auto nn = sketch_->nearest(q);
-      sum += std::min(cap, worldDistance(T, sketch_->points()[nn.first], nn.second, p));
+      sum += std::min(cap, m.worldDistance(sketch_->points()[nn.first], nn.second, p));
     }
     double cost = sum / static_cast<double>(sample.size());
     // One-sided distances favour a smaller scale (denser sketch walls are always near); the
@@ -155,7 +171,7 @@ Sim2 ScaleIcp::coarseSearch(const Sim2& T0, const Points2d& observed,
     if (!visible0.empty()) {
       double rsum = 0.0;
       for (const auto& c : visible0) {
-        rsum += std::min(cap, std::sqrt(reverse->tree->nearest(T.apply(c)).second));
+        rsum += std::min(cap, std::sqrt(reverse->tree->nearest(m.toWorld(c)).second));
       }
       cost += rsum / static_cast<double>(visible0.size());
     }
@@ -203,14 +219,14 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
   IcpResult r;
   r.T_world_sketch = T;
   if (sketch_->size() == 0 || !T.isFinite() || !(T.scale > 0.0)) return r;
-  const Sim2 inv = T.inverse();
+  const Mapping m(T);
   std::vector<double> d;
   d.reserve(observed.size());
   for (const auto& p : observed) {
-    const Eigen::Vector2d q = inv.apply(p);
+    const Eigen::Vector2d q = m.toSketch(p);
     if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
     const auto nn = sketch_->nearest(q);
-    d.push_back(worldDistance(T, sketch_->points()[nn.first], nn.second, p));
+    d.push_back(m.worldDistance(sketch_->points()[nn.first], nn.second, p));
   }
   r.num_points = static_cast<int>(d.size());
   if (r.num_points < config_.min_points) return r;
@@ -242,7 +258,7 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
     std::vector<double> dr;
     dr.reserve(visible.size());
     for (const auto& c : visible) {
-      const Eigen::Vector2d w = T.apply(c);
+      const Eigen::Vector2d w = m.toWorld(c);
       if (bins > 0) {
         const Eigen::Vector2d d = w - reverse->robot_world_m;
         const int b = binOf(d);
@@ -269,15 +285,15 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
 HistoryFit ScaleIcp::historyFit(const Sim2& T, const Points2d& remembered) const {
   HistoryFit h;
   if (sketch_->size() == 0 || !T.isFinite() || !(T.scale > 0.0)) return h;
-  const Sim2 inv = T.inverse();
+  const Mapping m(T);
   for (const auto& p : remembered) {
     ++h.points;
-    const Eigen::Vector2d q = inv.apply(p);
+    const Eigen::Vector2d q = m.toSketch(p);
     if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
     ++h.inside;
     const auto nn = sketch_->nearest(q);
     h.explained +=
-        worldDistance(T, sketch_->points()[nn.first], nn.second, p) <= config_.inlier_distance_m;
+        m.worldDistance(sketch_->points()[nn.first], nn.second, p) <= config_.inlier_distance_m;
   }
   return h;
 }
@@ -310,13 +326,13 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
   pairs.reserve(iter_points->size());
   int it = 0;
   for (; it < config_.max_iterations; ++it) {
-    const Sim2 inv = T.inverse();
+    const Mapping m(T);
     pairs.clear();
     for (const auto& p : *iter_points) {
-      const Eigen::Vector2d q = inv.apply(p);
+      const Eigen::Vector2d q = m.toSketch(p);
       if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
       const auto nn = sketch_->nearest(q);
-      const double d = worldDistance(T, sketch_->points()[nn.first], nn.second, p);
+      const double d = m.worldDistance(sketch_->points()[nn.first], nn.second, p);
       if (d <= max_corr) pairs.push_back({d, sketch_->points()[nn.first], p});
     }
     if (static_cast<int>(pairs.size()) < config_.min_points) break;
@@ -325,7 +341,7 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
       // Symmetric ICP: sketch walls the robot would see under T pull toward observed points too,
       // which keeps walls hidden in the sketch from capturing observed points.
       for (const auto& c : visibleSketch(T, reverse->robot_world_m)) {
-        const Eigen::Vector2d tc = T.apply(c);
+        const Eigen::Vector2d tc = m.toWorld(c);
         const auto nn = reverse->tree->nearest(tc);
         const double d = std::sqrt(nn.second);
         if (d <= max_corr) pairs.push_back({d, c, reverse->tree->points()[nn.first]});
