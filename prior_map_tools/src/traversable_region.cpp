@@ -47,6 +47,23 @@ cv::Mat1b closeWalls(const cv::Mat1b& walls, const cv::Mat1f& dist_to_wall, int 
   return closed | walls;
 }
 
+// Bounding box of the enclosed components of at least `min_area_px` pixels (empty if none). The
+// hollow pillars of a car park enclose specks all over the drawing: counted, they made a partial
+// garage sketch's two closets span the whole page, and the closets became the building.
+cv::Rect enclosedSpan(const cv::Mat1b& enclosed, double min_area_px) {
+  cv::Mat1i labels;
+  cv::Mat stats, centroids;
+  const int n = cv::connectedComponentsWithStats(enclosed, labels, stats, centroids, 8, CV_32S);
+  cv::Rect span;
+  for (int l = 1; l < n; ++l) {
+    if (stats.at<int>(l, cv::CC_STAT_AREA) < min_area_px) continue;
+    const cv::Rect r(stats.at<int>(l, cv::CC_STAT_LEFT), stats.at<int>(l, cv::CC_STAT_TOP),
+                     stats.at<int>(l, cv::CC_STAT_WIDTH), stats.at<int>(l, cv::CC_STAT_HEIGHT));
+    span = span.area() > 0 ? (span | r) : r;
+  }
+  return span;
+}
+
 }  // namespace
 
 namespace {
@@ -185,8 +202,9 @@ TraversableRegion extractTraversable(const LoadedSketch& sketch, const Traversab
     const auto diagonal = [](const cv::Rect& r) { return std::hypot(r.width, r.height); };
     const bool closet_only =
         best > 0.0 &&
-        diagonal(cv::boundingRect(footprints[chosen] &
-                                  ~closeWalls(padded_walls, dist_to_wall, radii[chosen])(page))) <
+        diagonal(enclosedSpan(
+            footprints[chosen] & ~closeWalls(padded_walls, dist_to_wall, radii[chosen])(page),
+            config.min_region_area_m2 / (m_per_px * m_per_px))) <
             config.min_enclosed_span_fraction * diagonal(cv::boundingRect(ink));
     if (best <= 0.0 || closet_only) {
       if (cv::countNonZero(hull_footprint & ~walls) == 0) {

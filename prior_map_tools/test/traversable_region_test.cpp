@@ -124,6 +124,31 @@ TEST(TraversableRegion, AClosetInsideAnOpenOutlineIsNotTheBuilding) {
   EXPECT_THROW(absurd.validate(), ConfigError);
 }
 
+TEST(TraversableRegion, HollowPillarsDoNotMakeAClosetSpanTheDrawing) {
+  // A 36 x 24 m car park drawn without its south wall, a service core in it, and its pillars
+  // drawn as hollow 1 m squares 6 m apart (gaps wider than max_outer_gap_m: they seal nothing).
+  // Each pillar encloses a speck (0.36 m^2, below min_region_area_m2) from corner to corner of the
+  // hall; the enclosed area that counts is still the core alone.
+  cv::Mat1b partial(300, 400, uint8_t(255));
+  cv::line(partial, {20, 20}, {380, 20}, cv::Scalar(0), 2);
+  cv::line(partial, {20, 20}, {20, 260}, cv::Scalar(0), 2);
+  cv::line(partial, {380, 20}, {380, 260}, cv::Scalar(0), 2);
+  cv::rectangle(partial, cv::Rect(180, 130, 40, 16), cv::Scalar(0), 2);
+  for (int x = 80; x <= 320; x += 60) {
+    for (int y = 70; y <= 190; y += 60) {
+      if (x >= 170 && x <= 230 && y >= 120 && y <= 156) continue;  // not inside the core
+      cv::rectangle(partial, cv::Rect(x, y, 10, 10), cv::Scalar(0), 2);
+    }
+  }
+  SketchLoadConfig lc;
+  const TraversableRegion open =
+      extractTraversable(sketchFromImage(partial, lc, "pillars.png"), {});
+  EXPECT_TRUE(open.outer_outline_open);
+  EXPECT_GT(open.area_m2, 0.7 * 36.0 * 24.0);
+  EXPECT_EQ(open.mask(230, 230), 255) << "the hall south-east of the core";
+  EXPECT_EQ(open.mask(100, 100), 255) << "the hall north-west of the core";
+}
+
 TEST(TraversableRegion, OccupancyGridUnknownIsNotTraversable) {
   cv::Mat1b grid(40, 60, uint8_t(205));
   grid(cv::Rect(10, 10, 40, 20)).setTo(254);
