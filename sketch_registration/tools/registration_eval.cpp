@@ -29,9 +29,13 @@
 //   registration_eval [--world KIND --size small|paper --seed S | --sdf FILE]
 //                     [--variant precise|partial|deformed|scaled | --sketch PNG --scale-guess M]
 //                     [--trials N] [--sketch-seed S] [--max-time-s T] [--markdown FILE]
-//                     [--require-success K] [--no-single-frame] [--verbose]
+//                     [--require-success K] [--require-final-placement-m D]
+//                     [--no-single-frame] [--verbose]
 //                     [--dump-dir DIR] [--reference "yaw_rad scale tx ty [reflected]"]
 // --require-success K: exit 1 unless at least K trials succeed (smoke tests).
+// --require-final-placement-m D: exit 1 unless every trial's last reported best hypothesis lies
+//   within D m (placement, RMS over the sketch) of the truth: a wrong placement reported at the end
+//   fails, even after a success.
 // Deformed sketches are judged against a local truth (sketch_registration/local_truth.h): the
 //   similarity fitted to the drawn walls within --local-truth-radius-m (30) of the route flown so
 //   far; --deform-max-m and --anisotropy draw milder or harsher deformations (SketchConfig).
@@ -48,7 +52,7 @@
 // --fitness-threshold-m, --min-inlier-ratio,
 // --kept-fitness-threshold-m, --kept-min-inlier-ratio, --forward-inlier-slack,
 // --slack-min-reverse-ratio, --max-stretch, --stretch-min-fitness-gain, --kept-min-inside-ratio,
-// --screen-points,
+// --screen-points, --max-icp-inputs,
 // --inlier-distance-m, --slice-min-dz-m, --slice-max-dz-m, --wall-columns 0|1, --column-cell-m,
 // --wall-min-height-m, --wall-max-gap-m, --wall-top-clear-m, --wall-continuation-m, --icp-range-m,
 // --max-range-m, --unknown-empty-bins 0|1,
@@ -123,6 +127,8 @@ struct Options {
   double wall_inlier_ratio = 0.6;
   std::string markdown_path;
   std::optional<int> require_success;
+  /// Every trial's last reported best must lie within this of the truth (placement).
+  std::optional<double> require_final_placement_m;
   bool single_frame = true;
   bool verbose = false;
   std::string dump_dir;           ///< descriptors and pictures of the frames that fail at eta 5 %
@@ -1012,6 +1018,7 @@ Options parse(int argc, char** argv) {
                         "dump-dir",
                         "reference",
                         "require-success",
+                        "require-final-placement-m",
                         "fitness-threshold-m",
                         "eta",
                         "min-inlier-ratio",
@@ -1022,6 +1029,7 @@ Options parse(int argc, char** argv) {
                         "kept-min-inlier-ratio",
                         "forward-inlier-slack",
                         "screen-points",
+                        "max-icp-inputs",
                         "slack-min-reverse-ratio",
                         "max-stretch",
                         "stretch-min-fitness-gain",
@@ -1079,6 +1087,8 @@ Options parse(int argc, char** argv) {
   o.markdown_path = args.str("markdown", "");
   if (args.has("require-success"))
     o.require_success = static_cast<int>(args.integer("require-success", 1));
+  if (args.has("require-final-placement-m"))
+    o.require_final_placement_m = args.number("require-final-placement-m", 1.0);
   o.single_frame = !args.flag("no-single-frame");
   o.verbose = args.flag("verbose");
   o.dump_dir = args.str("dump-dir", "");
@@ -1109,6 +1119,8 @@ Options parse(int argc, char** argv) {
   overrideNumber("stretch-min-fitness-gain", o.registration.stretch_min_fitness_gain);
   o.registration.screen_points =
       static_cast<int>(args.integer("screen-points", o.registration.screen_points));
+  o.registration.max_icp_inputs =
+      static_cast<int>(args.integer("max-icp-inputs", o.registration.max_icp_inputs));
   overrideNumber("kept-min-inside-ratio", o.registration.kept_min_inside_ratio);
   o.registration.observation.wall_columns =
       args.integer("wall-columns", o.registration.observation.wall_columns ? 1 : 0) != 0;
@@ -1324,6 +1336,18 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "registration_eval: %d of %zu trials succeeded, %d required\n",
                    successes, trials.size(), *opt.require_success);
       return 1;
+    }
+    if (opt.require_final_placement_m) {
+      for (const TrialResult& t : trials) {
+        if (!(t.final_placement_m <= *opt.require_final_placement_m)) {
+          std::fprintf(stderr,
+                       "registration_eval: seed %llu ends with its best hypothesis %s m from the "
+                       "truth, at most %.2f m required\n",
+                       static_cast<unsigned long long>(t.seed), fmt(t.final_placement_m).c_str(),
+                       *opt.require_final_placement_m);
+          return 1;
+        }
+      }
     }
     return 0;
   } catch (const std::exception& e) {

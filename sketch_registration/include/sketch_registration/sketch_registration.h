@@ -118,6 +118,8 @@ struct SketchRegistrationConfig {
   /// must lay this share of them onto sketch walls (HistoryFit::inlierRatio), a reported one
   /// history_kept_min_inlier_ratio. Wrong placements that fit the window lay 0-0.45 of them on
   /// walls (paper-size cave and garage), the truth 1.0 (cave, indoor) and 0.75-0.9 (garage).
+  /// A hypothesis (reported, live or dormant) that passes this share also shuts out placements
+  /// that leave fewer than history.min_points remembered walls inside the sketch.
   double history_min_inlier_ratio = 0.6;
   double history_kept_min_inlier_ratio = 0.45;
   /// A hypothesis whose HistoryFit::inlierRatio falls this far below the best reported one's is
