@@ -1087,8 +1087,11 @@ Options parse(int argc, char** argv) {
   o.markdown_path = args.str("markdown", "");
   if (args.has("require-success"))
     o.require_success = static_cast<int>(args.integer("require-success", 1));
-  if (args.has("require-final-placement-m"))
+  if (args.has("require-final-placement-m")) {
     o.require_final_placement_m = args.number("require-final-placement-m", 1.0);
+    if (!(*o.require_final_placement_m > 0.0) || !std::isfinite(*o.require_final_placement_m))
+      throw efs::CliError("--require-final-placement-m must be a positive distance in metres");
+  }
   o.single_frame = !args.flag("no-single-frame");
   o.verbose = args.flag("verbose");
   o.dump_dir = args.str("dump-dir", "");
@@ -1340,10 +1343,13 @@ int main(int argc, char** argv) {
     if (opt.require_final_placement_m) {
       for (const TrialResult& t : trials) {
         if (!(t.final_placement_m <= *opt.require_final_placement_m)) {
+          const std::string where =
+              std::isfinite(t.final_placement_m)
+                  ? "its best hypothesis " + fmt(t.final_placement_m) + " m from the truth"
+                  : "no hypothesis placed against a truth (none reported, or a sketch without one)";
           std::fprintf(stderr,
-                       "registration_eval: seed %llu ends with its best hypothesis %s m from the "
-                       "truth, at most %.2f m required\n",
-                       static_cast<unsigned long long>(t.seed), fmt(t.final_placement_m).c_str(),
+                       "registration_eval: seed %llu ends with %s, at most %.2f m required\n",
+                       static_cast<unsigned long long>(t.seed), where.c_str(),
                        *opt.require_final_placement_m);
           return 1;
         }
