@@ -7,8 +7,10 @@
 // the proposed method over each baseline. Writes CSV, Markdown and coverage plots.
 //
 //   exploration_bench --quick | --full  [--out results/bench] [--jobs N] [--worlds a,b]
-//                     [--methods m1,m2] [--time-limit S]
+//                     [--methods m1,m2] [--time-limit S] [--seeds N] [--progress-every S]
 //   --quick: small worlds (about 40 m), one seed.  --full: paper-sized worlds, 5 seeds.
+//   --progress-every S: a line per running trial every S seconds of simulated time (default 100
+//   with --full, where one flight can take an hour of wall time; 0, off, with --quick).
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -97,11 +99,13 @@ std::string statsCell(const Stats& s, int d = 1) {
 int main(int argc, char** argv) {
   using namespace efs;
   try {
-    const CliArgs args(argc, argv, {"out", "jobs", "worlds", "methods", "time-limit", "seeds"},
-                       {"quick", "full", "help"});
+    const CliArgs args(
+        argc, argv, {"out", "jobs", "worlds", "methods", "time-limit", "seeds", "progress-every"},
+        {"quick", "full", "help"});
     if (args.flag("help") || (!args.flag("quick") && !args.flag("full"))) {
       std::cout << "usage: exploration_bench --quick | --full [--out DIR] [--jobs N] "
-                   "[--worlds a,b] [--methods m1,m2] [--time-limit S] [--seeds N]\n";
+                   "[--worlds a,b] [--methods m1,m2] [--time-limit S] [--seeds N] "
+                   "[--progress-every S]\n";
       return args.flag("help") ? 0 : 2;
     }
     const bool full = args.flag("full");
@@ -110,6 +114,13 @@ int main(int argc, char** argv) {
         static_cast<int>(args.integer("jobs", std::max(1u, std::thread::hardware_concurrency())));
     const int seeds = static_cast<int>(args.integer("seeds", full ? 5 : 1));
     const double time_limit_s = args.number("time-limit", full ? 2000.0 : 600.0);
+    const double progress_every_s = args.number("progress-every", full ? 100.0 : 0.0);
+    if (jobs < 1) throw CliError("--jobs must be at least 1");
+    if (seeds < 1) throw CliError("--seeds must be at least 1");
+    if (!(time_limit_s > 0.0) || !std::isfinite(time_limit_s))
+      throw CliError("--time-limit must be a positive number of seconds");
+    if (!(progress_every_s >= 0.0) || !std::isfinite(progress_every_s))
+      throw CliError("--progress-every must be 0 (off) or a positive number of seconds");
     const std::string data_dir = [] {
       const char* env = std::getenv("EFS_SHARED_DATA_DIR");
       return std::string(env ? env : "../shared/data");
@@ -202,7 +213,23 @@ int main(int argc, char** argv) {
           config.time_limit_s = time_limit_s;
           config.record_map = false;  // no map is saved; keeps parallel trials small
           const auto m = mission::makeMission(r.trial.spec, config);
-          m->run();
+          const auto progress = [&](const mission::MissionProgress& p) {
+            const std::string registration =
+                p.registration_status.empty() ? "" : ", registration " + p.registration_status;
+            std::lock_guard<std::mutex> lock(print_mutex);
+            std::printf(
+                "          %-40s %-28s seed %d: %5.0f s, coverage %5.1f %%, %6.0f m%s (wall %.0f "
+                "s)\n",
+                r.trial.world_label.c_str(), r.trial.spec.label().c_str(), r.trial.seed_index + 1,
+                p.time_s, 100.0 * p.coverage, p.flight_distance_m, registration.c_str(),
+                trial_wall.elapsedSeconds());
+            std::fflush(stdout);
+          };
+          if (progress_every_s > 0.0) {
+            m->run(progress, progress_every_s);
+          } else {
+            m->run();
+          }
           r.report = mission::makeReport(*m, r.trial.world_label, r.trial.spec.label());
           r.coverage = m->log().coverage_log;
         } catch (const std::exception& e) {
@@ -238,8 +265,8 @@ int main(int argc, char** argv) {
           << r.trial.seed_index + 1 << ',' << r.report.success << ',' << r.report.end << ','
           << r.report.exploration_time_s << ',' << r.report.flight_distance_m << ','
           << r.report.average_speed_mps << ',' << r.report.coverage << ','
-          << (r.report.time_to_coverage_goal_s ? fmt(*r.report.time_to_coverage_goal_s) : "")
-          << ',' << (r.report.registration_ttc_s ? fmt(*r.report.registration_ttc_s) : "") << ','
+          << (r.report.time_to_coverage_goal_s ? fmt(*r.report.time_to_coverage_goal_s) : "") << ','
+          << (r.report.registration_ttc_s ? fmt(*r.report.registration_ttc_s) : "") << ','
           << (r.report.final_registration_error_m ? fmt(*r.report.final_registration_error_m, 2)
                                                   : "")
           << ',' << fmt(r.wall_s) << ",\"" << r.error << "\"\n";
