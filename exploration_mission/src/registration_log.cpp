@@ -7,9 +7,8 @@ namespace efs::mission {
 
 void writeRegistrationLog(std::ostream& out, const std::vector<HypothesisRecord>& records) {
   out << "time_s,status,hypotheses,best_id,best_fitness_m,best_confidence,best_coverage,"
-         "best_scale,best_yaw_rad,best_x_m,best_y_m,best_reflected,best_stretch,best_stretch_axis_"
-         "rad,"
-         "message\n";
+         "best_scale,best_yaw_rad,best_x_m,best_y_m,best_reflected,best_stretch,"
+         "best_stretch_axis_rad,message\n";
   for (const HypothesisRecord& r : records) {
     out << r.time_s << ',' << registration::toString(r.status) << ',' << r.hypotheses.size() << ',';
     if (r.hypotheses.empty()) {

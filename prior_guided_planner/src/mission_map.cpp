@@ -1,13 +1,13 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include "prior_guided_planner/mission_map.h"
 
-#include <octomap/OcTree.h>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <octomap/OcTree.h>
 #include <stdexcept>
 
 #include "efs_common/config_check.h"
@@ -129,8 +129,8 @@ SavedMissionMap MissionMap::save(const std::string& directory, const OccupancyMa
     std::ofstream csv = openForWriting(out.trajectory_csv);
     csv << "time_s,x_m,y_m,z_m,yaw_rad\n";
     for (const TrackSample& s : track_)
-      csv << s.time_s << ',' << s.p_world_m.x() << ',' << s.p_world_m.y() << ',' << s.p_world_m.z()
-          << ',' << s.yaw_rad << '\n';
+      csv << s.time_s << ',' << s.p_world_m.x() << ',' << s.p_world_m.y() << ','
+          << s.p_world_m.z() << ',' << s.yaw_rad << '\n';
     finishWriting(csv, out.trajectory_csv);
     out.track_samples = track_.size();
   }
@@ -138,10 +138,9 @@ SavedMissionMap MissionMap::save(const std::string& directory, const OccupancyMa
     std::ofstream y = openForWriting(out.registration_yaml);
     y << "# Sketch-to-world transforms at the end of the mission, best first:\n"
       << "#   p_world_xy = scale * R(yaw_rad) * M * S * p_sketch_xy + [t_x_m, t_y_m],\n"
-      << "# M = diag(1, -1) when reflected (a mirror-image drawing), else the identity; S "
-         "stretches\n"
-      << "# the sketch by `stretch` along stretch_axis_rad and shrinks it across (1: a "
-         "similarity).\n"
+      << "# M = diag(1, -1) when reflected (a mirror-image drawing), else the identity;\n"
+      << "# S stretches the sketch by `stretch` along stretch_axis_rad, shrinks it across\n"
+      << "# (stretch 1: a similarity).\n"
       << "world_frame: \"" << registration.world_frame << "\"\n"
       << "sketch_frame: \"" << registration.sketch_frame << "\"\n"
       << "active_hypothesis_id: "

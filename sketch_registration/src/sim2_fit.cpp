@@ -56,13 +56,19 @@ Sim2Fit fitSim2(const Points2d& c_sketch, const Points2d& p_world, bool reflecte
 }
 
 namespace {
-/// The stretch (determinant 1) of a symmetric positive definite `m`, its ratio capped at
-/// stretch_max; false if `m` is not positive definite.
+/// The stretch matrix of `decomposed`, its ratio capped at stretch_max.
+Eigen::Matrix2d cappedStretch(const Sim2& decomposed, double stretch_max) {
+  Sim2 only_stretch;
+  only_stretch.stretch = std::min(decomposed.stretch, stretch_max);
+  only_stretch.stretch_axis_rad = decomposed.stretch_axis_rad;
+  return only_stretch.stretchMatrix();
+}
+
+/// The stretch (determinant 1) of a symmetric positive definite `m` (its decomposition has yaw 0),
+/// capped; false if `m` is not positive definite.
 bool boundedStretch(const Eigen::Matrix2d& m, double stretch_max, Eigen::Matrix2d* stretch) {
   if (!(m.determinant() > 0.0 && m.trace() > 0.0)) return false;
-  Sim2 only_stretch = Sim2::fromLinear(m, Eigen::Vector2d::Zero());  // yaw 0: m is symmetric
-  only_stretch.stretch = std::min(only_stretch.stretch, stretch_max);
-  *stretch = only_stretch.stretchMatrix();
+  *stretch = cappedStretch(Sim2::fromLinear(m, Eigen::Vector2d::Zero()), stretch_max);
   return true;
 }
 }  // namespace
@@ -102,12 +108,7 @@ Sim2Fit fitStretchedSim2(const Points2d& c_sketch, const Points2d& p_world, bool
     // stretch converges slowly where the points spread far more along one axis (a hall, a
     // tunnel).
     const Sim2 affine = Sim2::fromLinear(cross * cov.inverse(), Eigen::Vector2d::Zero());
-    if (affine.isFinite() && affine.reflected == reflected) {
-      Sim2 capped;
-      capped.stretch = std::min(affine.stretch, stretch_max);
-      capped.stretch_axis_rad = affine.stretch_axis_rad;
-      S = capped.stretchMatrix();
-    }
+    if (affine.isFinite() && affine.reflected == reflected) S = cappedStretch(affine, stretch_max);
   }
   const Eigen::Matrix2d F =
       reflected ? Eigen::Vector2d(1, -1).asDiagonal().toDenseMatrix() : Eigen::Matrix2d::Identity();

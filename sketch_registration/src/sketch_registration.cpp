@@ -434,9 +434,10 @@ IcpResult SketchRegistration::refineLive(const Sim2& T, const Points2d& points,
   Sim2 T_similarity(T.yaw_rad, T.scale, T.t_m, T.reflected);
   if (!T.isSimilarity()) {
     const Sim2 T_inverse = T.inverse();
+    const Eigen::Matrix2d to_sketch = T_inverse.linear();  // once, not per point (Sim2::apply)
     Points2d sketch_m;
     sketch_m.reserve(points.size());
-    for (const auto& p : points) sketch_m.push_back(T_inverse.apply(p));
+    for (const auto& p : points) sketch_m.push_back(to_sketch * p + T_inverse.t_m);
     const Sim2Fit closest = fitSim2(sketch_m, points, T.reflected);
     if (closest.ok) T_similarity = closest.T_world_sketch;
   }
@@ -610,19 +611,17 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
     return f.inside >= config_.history.min_points &&
            f.inlierRatio() >= config_.history_min_inlier_ratio;
   };
+  // Among this frame's confirmed fits, best_history (above) already says whether one explains.
   const bool history_explained =
-      use_history &&
-      (std::any_of(kept.begin(), kept.end(),
-                   [&](const Refined& k) {
-                     return k.age + 1 >= config_.confirm_frames && explains(k.history);
-                   }) ||
-       std::any_of(live_.begin(), live_.end(),
-                   [&](const Hypothesis& h) {
-                     return h.age_frames >= config_.confirm_frames &&
-                            explains(historyFit(h.T_world_sketch));
-                   }) ||
-       std::any_of(dormant_.begin(), dormant_.end(),
-                   [&](const Dormant& d) { return explains(historyFit(d.h.T_world_sketch)); }));
+      use_history && (best_history >= config_.history_min_inlier_ratio ||
+                      std::any_of(live_.begin(), live_.end(),
+                                  [&](const Hypothesis& h) {
+                                    return h.age_frames >= config_.confirm_frames &&
+                                           explains(historyFit(h.T_world_sketch));
+                                  }) ||
+                      std::any_of(dormant_.begin(), dormant_.end(), [&](const Dormant& d) {
+                        return explains(historyFit(d.h.T_world_sketch));
+                      }));
   if (history_explained) {
     kept.erase(std::remove_if(kept.begin(), kept.end(),
                               [&](const Refined& k) {
