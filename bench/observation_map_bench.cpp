@@ -10,7 +10,8 @@
 //  - Timed per frame: occupancy ray casting, observation-map update (targets: both together
 //    under 20 ms median), frontier clustering + viewpoint update; at the end L(robot, viewpoint)
 //    searches (cold), the same queries again (cache), and all of them by one Dijkstra
-//    (PathSearch::lengthsFrom, as ExplorationManager plans).
+//    (PathSearch::lengthsFrom, as ExplorationManager plans); then passes over the whole map
+//    (the openings search, one cell lookup per known cell).
 //  - Times are this thread's CPU time (one core), so other load on the machine does not count.
 //  - Memory: map bytes per metre of cave and per m^2 of surface, every `report_every_m`.
 //  - `manager`: ExplorationManager::update() time when it replans, per mode, along the cave.
@@ -31,6 +32,7 @@
 #include "prior_guided_planner/frontier_clusters.h"
 #include "prior_guided_planner/observation_map.h"
 #include "prior_guided_planner/occupancy_map.h"
+#include "prior_guided_planner/openings.h"
 #include "prior_guided_planner/path_length.h"
 #include "prior_guided_planner/viewpoint_sampler.h"
 
@@ -378,6 +380,31 @@ int main(int argc, char** argv) {
   std::printf("\n");
   header();
   row("L(viewpoint, viewpoint), searched", pair_cold, "");
+
+  // Passes over the whole map, the cost of a plan that tours openings (every plan, once the
+  // first one had no surface viewpoint): the openings search, and the cell lookups it is made
+  // of (a block lookup per cell, as collision checks and line-of-sight tests do).
+  Series t_open, t_lookup;
+  size_t openings_found = 0, known_free = 0;
+  for (int rep = 0; rep < 5; ++rep) {
+    CpuWatch w;
+    openings_found = findOpenings(occ, robot, std::nullopt).size();
+    t_open.v.push_back(w.elapsedMs());
+    w.restart();
+    size_t free_cells = 0;
+    occ.forEachKnownCell([&](const efs::VoxelKey& k, double, OccupancyState) {
+      free_cells += occ.isFree({k.x + 1, k.y, k.z});
+    });
+    t_lookup.v.push_back(w.elapsedMs());
+    known_free = free_cells;
+  }
+  std::printf("\nwhole-map passes (%zu known cells, %zu blocks; 5 repetitions):\n\n",
+              occ.numKnownCells(), occ.numBlocks());
+  header();
+  row("openings search (findOpenings)", t_open, "");
+  row("one state() lookup per known cell", t_lookup, "");
+  std::printf("\n%zu openings; %zu known cells have a free +x neighbour\n", openings_found,
+              known_free);
   std::printf("\npeak RSS %.1f MiB\n", efs::peakRssBytes() / double(1 << 20));
   return 0;
 }

@@ -70,7 +70,7 @@ std::vector<Eigen::Vector3d> freeSamplePoints(const WorldGeometry& world,
 
 Coverage::Coverage(const CoverageConfig& config, const VoxelKeySet& ground_truth_surface)
     : config_((config.validate(), config)), table_(ground_truth_surface) {
-  seen_.assign(table_.capacity(), 0);
+  seen_.assign(table_.size(), 0);
 }
 
 std::size_t Coverage::observe(const Eigen::Vector3d& sensor_origin_world,
@@ -86,9 +86,9 @@ std::size_t Coverage::observe(const Eigen::Vector3d& sensor_origin_world,
     const VoxelKey k = surfaceVoxelKey(surface_world[i], dirs_world[i], config_.voxel_size_m);
     if (k == last) continue;  // consecutive returns often share a voxel: skip the hash lookup
     last = k;
-    const std::optional<size_t> slot = table_.find(k);
-    if (!slot || seen_[*slot]) continue;
-    seen_[*slot] = 1;
+    const std::optional<size_t> index = table_.find(k);
+    if (!index || seen_[*index]) continue;
+    seen_[*index] = 1;
     ++seen_count_;
     ++fresh;
   }
@@ -101,8 +101,8 @@ double Coverage::fraction() const {
 }
 
 bool Coverage::isSeen(const VoxelKey& k) const {
-  const std::optional<size_t> slot = table_.find(k);
-  return slot && seen_[*slot];
+  const std::optional<size_t> index = table_.find(k);
+  return index && seen_[*index];
 }
 
 }  // namespace efs::sim

@@ -3,9 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "efs_common/config_check.h"
-#include "efs_common/container_bytes.h"
 
 namespace efs::planner {
 
@@ -22,32 +22,6 @@ void OccupancyConfig::validate() const {
   requireInRange("occupancy.log_odds_occupied", log_odds_occupied, log_odds_min, log_odds_max);
 }
 
-// Resolves cells to blocks, remembering the last block: consecutive cells of a ray or of a ball
-// query mostly share a block, so most lookups skip the hash table.
-class BlockCursor {
- public:
-  explicit BlockCursor(const OccupancyMap& m) : map_(m) {}
-  const OccupancyMap::Block* block(const VoxelKey& cell) {
-    const VoxelKey bk = OccupancyMap::blockOf(cell);
-    if (!valid_ || bk != key_) {
-      key_ = bk;
-      block_ = map_.findBlock(bk);
-      valid_ = true;
-    }
-    return block_;
-  }
-  int8_t value(const VoxelKey& cell) {
-    const OccupancyMap::Block* b = block(cell);
-    return b ? b->cells[OccupancyMap::localIndex(cell)].log_odds : OccupancyMap::kUnknownValue;
-  }
-
- private:
-  const OccupancyMap& map_;
-  VoxelKey key_;
-  const OccupancyMap::Block* block_ = nullptr;
-  bool valid_ = false;
-};
-
 OccupancyMap::OccupancyMap(OccupancyConfig config) : config_(config) {
   config_.validate();
   auto q = [](double v) { return static_cast<int>(std::lround(v / kQuantum)); };
@@ -60,14 +34,14 @@ OccupancyMap::OccupancyMap(OccupancyConfig config) : config_(config) {
 }
 
 OccupancyMap::Block* OccupancyMap::findBlock(const VoxelKey& block_key) const {
-  auto it = blocks_.find(block_key);
-  return it == blocks_.end() ? nullptr : it->second.get();
+  const std::optional<size_t> i = block_index_.find(block_key);
+  return i ? blocks_[*i].get() : nullptr;
 }
 
 OccupancyMap::Block& OccupancyMap::touchBlock(const VoxelKey& block_key) {
-  auto& slot = blocks_[block_key];
-  if (!slot) slot = std::make_unique<Block>();
-  return *slot;
+  const size_t i = block_index_.insert(block_key);
+  if (i == blocks_.size()) blocks_.push_back(std::make_unique<Block>());
+  return *blocks_[i];
 }
 
 void OccupancyMap::updateCell(Block& b, const VoxelKey& block_key, const VoxelKey& cell, bool hit) {
@@ -188,7 +162,7 @@ bool OccupancyMap::isKnownFree(const Eigen::Vector3d& p, double radius_m) const 
 bool OccupancyMap::allCellsInBall(const Eigen::Vector3d& p, double radius_m,
                                   bool (*ok)(OccupancyState)) const {
   const double res = config_.resolution_m;
-  BlockCursor cur(*this);
+  Cursor cur(*this);
   const VoxelKey lo = key(p - Eigen::Vector3d::Constant(radius_m));
   const VoxelKey hi = key(p + Eigen::Vector3d::Constant(radius_m));
   const double r2 = radius_m * radius_m;
@@ -221,7 +195,7 @@ bool OccupancyMap::segmentSafe(const Eigen::Vector3d& a, const Eigen::Vector3d& 
 
 bool OccupancyMap::lineOfSight(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
                                bool unknown_blocks, int ignore_near_to_cells) const {
-  BlockCursor cur(*this);
+  Cursor cur(*this);
   const VoxelKey k_from = key(from);
   const VoxelKey k_to = key(to);
   const int n = ignore_near_to_cells;
@@ -236,7 +210,8 @@ bool OccupancyMap::lineOfSight(const Eigen::Vector3d& from, const Eigen::Vector3
 }
 
 size_t OccupancyMap::memoryBytes() const {
-  return hashContainerBytes(blocks_) + blocks_.size() * sizeof(Block);
+  return block_index_.memoryBytes() + blocks_.capacity() * sizeof(std::unique_ptr<Block>) +
+         blocks_.size() * sizeof(Block);
 }
 
 }  // namespace efs::planner

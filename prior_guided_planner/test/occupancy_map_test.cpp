@@ -139,6 +139,36 @@ TEST(OccupancyMap, MemoryFollowsTheExploredVolumeNotTheBoundingBox) {
   EXPECT_LT(m.memoryBytes(), size_t(1) << 20);
 }
 
+// The cursor (whole-map passes, rays, balls) answers what state() answers, across block
+// boundaries, in blocks no ray touched, and on both sides of the origin (negative block keys).
+TEST(OccupancyMap, CursorAgreesWithStateEverywhere) {
+  OccupancyMap m;
+  Scene s;
+  s.room = {Eigen::Vector3d(-4, -3, -0.05), Eigen::Vector3d(5, 3, 3)};
+  m.insertScan(Eigen::Vector3d(0.5, 0.2, 1.5), s.scanSphere(Eigen::Vector3d(0.5, 0.2, 1.5), 2.0));
+  int counts[3] = {0, 0, 0};
+  OccupancyMap::Cursor cursor(m);
+  for (int z = -6; z <= 14; ++z)
+    for (int y = -14; y <= 14; ++y)
+      for (int x = -18; x <= 20; ++x) {
+        const VoxelKey k{x, y, z};
+        const OccupancyState expected = m.state(k);
+        ASSERT_EQ(cursor.state(k), expected) << x << " " << y << " " << z;
+        ++counts[static_cast<int>(expected)];
+      }
+  // The scan saw the room: all three states were compared.
+  EXPECT_GT(counts[static_cast<int>(OccupancyState::kUnknown)], 0);
+  EXPECT_GT(counts[static_cast<int>(OccupancyState::kFree)], 1000);
+  EXPECT_GT(counts[static_cast<int>(OccupancyState::kOccupied)], 100);
+  // Block by block in the order first touched: every known cell once.
+  size_t visited = 0;
+  m.forEachKnownCell([&](const VoxelKey& k, double, OccupancyState st) {
+    ++visited;
+    EXPECT_EQ(st, m.state(k));
+  });
+  EXPECT_EQ(visited, m.numKnownCells());
+}
+
 TEST(OccupancyMap, ConfigErrorsNameTheKey) {
   OccupancyConfig c;
   c.resolution_m = 0.0;

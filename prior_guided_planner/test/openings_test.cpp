@@ -140,6 +140,23 @@ TEST(Openings, OnceJoinedTheyStayInTheToursUntilNoneIsFound) {
   }
 }
 
+// The first plan of a flight, over the map of one scan, has no surface viewpoint yet: the
+// openings join it and stay beside the surface viewpoints that appear next (measured better than
+// waiting for the surface viewpoints to run out: see OpeningTourMembership::select).
+TEST(Openings, TheFirstPlanWithoutSurfaceViewpointsKeepsThemInTheTours) {
+  const Eigen::Vector3d robot(0, 0, 1.5);
+  const std::vector<Opening> found = {openingAt(1, {3, 0, 1.5}, 250)};
+  const auto find = [&]() -> const std::vector<Opening>& { return found; };
+  const std::vector<Eigen::Vector3d> surface = {{20, 0, 1.5}};
+  OpeningTourMembership membership(true);
+  EXPECT_EQ(ids(membership.select({}, robot, 0.0, 100, find)), (std::vector<int>{1}));
+  EXPECT_TRUE(membership.joined());
+  EXPECT_EQ(ids(membership.select(surface, robot, 0.0, 100, find)), (std::vector<int>{1}));
+  OpeningTourMembership plan_by_plan(false);
+  EXPECT_EQ(ids(plan_by_plan.select({}, robot, 0.0, 100, find)), (std::vector<int>{1}));
+  EXPECT_TRUE(plan_by_plan.select(surface, robot, 0.0, 100, find).empty());
+}
+
 // Seen from the room with a 40 m range, the space behind the door leaves one large opening (the
 // unseen parts of the far room) and pockets in that room the rays through the door missed,
 // 10-14 cells each: not ways on, and the default cell bound leaves them out.

@@ -85,7 +85,7 @@ class Coverage {
  private:
   CoverageConfig config_;
   VoxelKeyTable table_;
-  std::vector<uint8_t> seen_;  ///< per table slot
+  std::vector<uint8_t> seen_;  ///< per surface voxel, by its index in table_
   std::size_t seen_count_ = 0;
 };
 

@@ -73,6 +73,9 @@ struct ExplorationManagerConfig {
   /// SubT-scale flight turned back and forth three times in 20 s between the last surface
   /// viewpoints in the west and openings 20-25 m north-east. Staying made every method faster
   /// on the quick tier (README, Benchmarks); false restores the plan-by-plan membership.
+  /// A flight's first plan, over the map of one scan, has no surface viewpoint yet, so the
+  /// openings are in the tours from the start (found at stop 39; joining only once surface
+  /// viewpoints had been planned and ran out was slower on most quick-tier cells).
   bool openings_stay_in_tour = true;
   /// Plan at most this often [s] unless the target is reached, gone, or hypotheses changed.
   double replan_period_s = 1.0;

@@ -2,8 +2,9 @@
 //
 // Sparse occupancy of the explored space for the planner's collision checks, line-of-sight tests
 // and path search. Cells live in hashed blocks of 8 x 8 x 8 (only blocks that a ray touched
-// exist), so memory grows with the explored volume, never with a bounding box: a 2 km cave
-// fits. Each registered scan is ray cast from the sensor origin (Amanatides-Woo traversal):
+// exist; the block index is a flat open-addressing table, since a block lookup is what every
+// cell query costs), so memory grows with the explored volume, never with a bounding box: a 2 km
+// cave fits. Each registered scan is ray cast from the sensor origin (Amanatides-Woo traversal):
 // log-odds misses along the ray, a hit at the end point. Every cell is updated at most once per
 // scan (a per-cell scan stamp), and hits win over misses within one scan, as in OctoMap.
 // Inflation by the vehicle radius is a query (isSafe), not a stored layer, so it never has to be
@@ -19,10 +20,10 @@
 #include <cstdlib>
 #include <limits>
 #include <memory>
-#include <unordered_map>
 #include <vector>
 
 #include "efs_common/voxel_key.h"
+#include "efs_common/voxel_key_table.h"
 
 namespace efs::planner {
 
@@ -108,6 +109,8 @@ struct OccupancyUpdateStats {
 };
 
 class OccupancyMap {
+  struct Block;
+
  public:
   static constexpr int kBlockBits = 3;
   static constexpr int kBlockSize = 1 << kBlockBits;  ///< cells per block edge
@@ -130,6 +133,35 @@ class OccupancyMap {
                                   const std::vector<Eigen::Vector3d>& points_world_m);
 
   OccupancyState state(const VoxelKey& k) const;
+
+  /// state() for many nearby cells: remembers the last block, so the cells of a ray, of a ball
+  /// or around one cell mostly skip the block lookup. Valid while the map is not changed.
+  class Cursor {
+   public:
+    explicit Cursor(const OccupancyMap& map) : map_(map) {}
+    OccupancyState state(const VoxelKey& cell) { return map_.classify(value(cell)); }
+
+   private:
+    friend class OccupancyMap;
+    // Inline: called per cell of rays, balls and whole-map passes.
+    const Block* block(const VoxelKey& cell) {
+      const VoxelKey bk = blockOf(cell);
+      if (!valid_ || bk != key_) {
+        key_ = bk;
+        block_ = map_.findBlock(bk);
+        valid_ = true;
+      }
+      return block_;
+    }
+    int8_t value(const VoxelKey& cell) {
+      const Block* b = block(cell);
+      return b ? b->cells[localIndex(cell)].log_odds : kUnknownValue;
+    }
+    const OccupancyMap& map_;
+    VoxelKey key_;
+    const Block* block_ = nullptr;
+    bool valid_ = false;
+  };
   OccupancyState stateAt(const Eigen::Vector3d& p_world_m) const { return state(key(p_world_m)); }
   bool isOccupied(const VoxelKey& k) const { return state(k) == OccupancyState::kOccupied; }
   bool isFree(const VoxelKey& k) const { return state(k) == OccupancyState::kFree; }
@@ -151,10 +183,13 @@ class OccupancyMap {
   bool lineOfSight(const Eigen::Vector3d& from_world_m, const Eigen::Vector3d& to_world_m,
                    bool unknown_blocks, int ignore_near_to_cells = 0) const;
 
-  /// Calls f(cell key, log-odds, state) for every known cell, in no particular order.
+  /// Calls f(cell key, log-odds, state) for every known cell, block by block in the order the
+  /// blocks were first touched (deterministic for a given sequence of scans).
   template <typename F>
   void forEachKnownCell(F&& f) const {
-    for (const auto& [block_key, block] : blocks_) {
+    for (size_t b = 0; b < blocks_.size(); ++b) {
+      const VoxelKey& block_key = block_index_.key(b);
+      const Block* block = blocks_[b].get();
       for (int i = 0; i < kBlockCells; ++i) {
         const int8_t v = block->cells[i].log_odds;
         if (v == kUnknownValue) continue;
@@ -215,7 +250,8 @@ class OccupancyMap {
   // Log-odds are stored as int8 in units of kQuantum to keep a block at 1 KiB.
   static constexpr double kQuantum = 0.05;
   int hit_q_, miss_q_, miss_occupied_q_, min_q_, max_q_, occupied_q_;
-  std::unordered_map<VoxelKey, std::unique_ptr<Block>, VoxelKeyHash> blocks_;
+  VoxelKeyTable block_index_;                   ///< block key -> index into blocks_
+  std::vector<std::unique_ptr<Block>> blocks_;  ///< by block_index_'s index
   uint8_t scan_stamp_ = 0;
   uint64_t revision_ = 0;
   size_t known_cells_ = 0;
@@ -224,7 +260,6 @@ class OccupancyMap {
   bool changes_listed_ = true;
   bool last_added_free_ = false;
   bool last_added_occupied_ = false;
-  friend class BlockCursor;
 };
 
 }  // namespace efs::planner

@@ -85,6 +85,8 @@ std::vector<Opening> openingsToTour(const std::vector<Eigen::Vector3d>& surface_
 /// `stay_once_joined` every later tour keeps all of them beside the surface viewpoints that
 /// appear again, until a plan finds none. Without it, membership is openingsToTour's, plan by
 /// plan, and far looks that add a few poorly observed cells pull the openings out again.
+/// A flight's first plan has no surface viewpoint yet, so with `stay_once_joined` the openings
+/// are in the tours from the start: ways on into unseen space, toured beside the surfaces.
 class OpeningTourMembership {
  public:
   explicit OpeningTourMembership(bool stay_once_joined) : stay_once_joined_(stay_once_joined) {}
