@@ -142,10 +142,7 @@ OccupancyUpdateStats OccupancyMap::insertScan(const Eigen::Vector3d& origin,
   return st;
 }
 
-OccupancyState OccupancyMap::state(const VoxelKey& k) const {
-  const Block* b = findBlock(blockOf(k));
-  return b ? classify(b->cells[localIndex(k)].log_odds) : OccupancyState::kUnknown;
-}
+OccupancyState OccupancyMap::state(const VoxelKey& k) const { return Cursor(*this).state(k); }
 
 bool OccupancyMap::isSafe(const Eigen::Vector3d& p, double radius_m, bool unknown_is_safe) const {
   const OccupancyState c = stateAt(p);

@@ -3,9 +3,9 @@
 // A growing set of voxel keys, each with a dense index (the order of first insertion), in one flat
 // array: open addressing, linear probing, load <= 0.5. A lookup costs one probe run in one array
 // where std::unordered_map chases a bucket and a node: 2-3x faster for the simulator's coverage
-// ground truth (built once, queried per LiDAR return) and for the planner's occupancy blocks
-// (queried per cell of every collision check, ray and path search). Keys are never removed;
-// clear() forgets them all.
+// ground truth (built once, queried per LiDAR return); for the planner's occupancy blocks a
+// state() lookup per known cell of a 150 m cave map went from 11.4 to 9.4 ms
+// (observation_map_bench). Keys are never removed; clear() forgets them all.
 #pragma once
 
 #include <cstddef>
