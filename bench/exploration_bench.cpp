@@ -218,8 +218,8 @@ int main(int argc, char** argv) {
                 p.registration_status.empty() ? "" : ", registration " + p.registration_status;
             std::lock_guard<std::mutex> lock(print_mutex);
             std::printf(
-                "          %-40s %-28s seed %d: %5.0f s, coverage %5.1f %%, %6.0f m%s (wall %.0f "
-                "s)\n",
+                "          %-40s %-28s seed %d: %5.0f s, coverage %5.1f %%, %6.0f m%s "
+                "(wall %.0f s)\n",
                 r.trial.world_label.c_str(), r.trial.spec.label().c_str(), r.trial.seed_index + 1,
                 p.time_s, 100.0 * p.coverage, p.flight_distance_m, registration.c_str(),
                 trial_wall.elapsedSeconds());
@@ -265,8 +265,8 @@ int main(int argc, char** argv) {
           << r.trial.seed_index + 1 << ',' << r.report.success << ',' << r.report.end << ','
           << r.report.exploration_time_s << ',' << r.report.flight_distance_m << ','
           << r.report.average_speed_mps << ',' << r.report.coverage << ','
-          << (r.report.time_to_coverage_goal_s ? fmt(*r.report.time_to_coverage_goal_s) : "") << ','
-          << (r.report.registration_ttc_s ? fmt(*r.report.registration_ttc_s) : "") << ','
+          << (r.report.time_to_coverage_goal_s ? fmt(*r.report.time_to_coverage_goal_s) : "")
+          << ',' << (r.report.registration_ttc_s ? fmt(*r.report.registration_ttc_s) : "") << ','
           << (r.report.final_registration_error_m ? fmt(*r.report.final_registration_error_m, 2)
                                                   : "")
           << ',' << fmt(r.wall_s) << ",\"" << r.error << "\"\n";

@@ -1,13 +1,13 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include "prior_guided_planner/mission_map.h"
 
+#include <octomap/OcTree.h>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <limits>
-#include <octomap/OcTree.h>
 #include <stdexcept>
 
 #include "efs_common/config_check.h"
@@ -129,8 +129,8 @@ SavedMissionMap MissionMap::save(const std::string& directory, const OccupancyMa
     std::ofstream csv = openForWriting(out.trajectory_csv);
     csv << "time_s,x_m,y_m,z_m,yaw_rad\n";
     for (const TrackSample& s : track_)
-      csv << s.time_s << ',' << s.p_world_m.x() << ',' << s.p_world_m.y() << ','
-          << s.p_world_m.z() << ',' << s.yaw_rad << '\n';
+      csv << s.time_s << ',' << s.p_world_m.x() << ',' << s.p_world_m.y() << ',' << s.p_world_m.z()
+          << ',' << s.yaw_rad << '\n';
     finishWriting(csv, out.trajectory_csv);
     out.track_samples = track_.size();
   }
