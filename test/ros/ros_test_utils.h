@@ -47,6 +47,27 @@ inline bool nodeAlive(const std::string& name) {
   return false;
 }
 
+/// Waits up to `timeout_wall_s` (wall time) until `node` (a full name, "/lio_bridge") is a
+/// subscriber of `topic` (a full name) in the master's graph.
+inline bool waitForSubscriber(const std::string& topic, const std::string& node,
+                              double timeout_wall_s) {
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_wall_s);
+  while (true) {
+    XmlRpc::XmlRpcValue request(ros::this_node::getName()), response, state;
+    if (ros::master::execute("getSystemState", request, response, state, false)) {
+      XmlRpc::XmlRpcValue& subscribed = state[1];
+      for (int i = 0; i < subscribed.size(); ++i) {
+        if (static_cast<std::string>(subscribed[i][0]) != topic) continue;
+        for (int j = 0; j < subscribed[i][1].size(); ++j) {
+          if (static_cast<std::string>(subscribed[i][1][j]) == node) return true;
+        }
+      }
+    }
+    if (ros::WallTime::now() > deadline) return false;
+    ros::WallDuration(0.05).sleep();
+  }
+}
+
 /// Collects /rosout messages so tests can check what a node said. (Not /rosout_agg: rostest runs
 /// its master without the rosout relay node, so /rosout_agg stays silent.)
 class LogCollector {
