@@ -11,7 +11,8 @@
 //    under 20 ms median), frontier clustering + viewpoint update; at the end L(robot, viewpoint)
 //    searches (cold), the same queries again (cache), and all of them by one Dijkstra
 //    (PathSearch::lengthsFrom, as ExplorationManager plans); then passes over the whole map
-//    (the openings search, one cell lookup per known cell).
+//    (the openings search, one cell lookup per known cell); and the openings as plans ask for
+//    them along the flight, by such a pass and from the cells an OpeningCellIndex keeps.
 //  - Times are this thread's CPU time (one core), so other load on the machine does not count.
 //  - Memory: map bytes per metre of cave and per m^2 of surface, every `report_every_m`.
 //  - `manager`: ExplorationManager::update() time when it replans, per mode, along the cave.
@@ -32,6 +33,7 @@
 #include "prior_guided_planner/frontier_clusters.h"
 #include "prior_guided_planner/observation_map.h"
 #include "prior_guided_planner/occupancy_map.h"
+#include "prior_guided_planner/opening_cells.h"
 #include "prior_guided_planner/openings.h"
 #include "prior_guided_planner/path_length.h"
 #include "prior_guided_planner/viewpoint_sampler.h"
@@ -251,6 +253,11 @@ int main(int argc, char** argv) {
   std::printf(
       "| flown m | surface cells | well observed | frontier | occ. blocks | map MiB | B / m cave "
       "| B / m^2 surface | clusters |\n|---|---|---|---|---|---|---|---|---|\n");
+  // Openings as a plan asks for them (every 5th frame: a plan per 0.5 s at 10 Hz), by a pass over
+  // the whole map and from the cells an OpeningCellIndex keeps (marked after every scan).
+  OpeningCellIndex opening_index(occ, std::nullopt);
+  Series t_mark, t_plan_pass, t_plan_kept;
+  int openings_differ = 0;
   int frame = 0;
   double next_report = report_every_m;
   Eigen::Vector3d robot = Eigen::Vector3d::Zero();
@@ -265,6 +272,22 @@ int main(int argc, char** argv) {
     CpuWatch w;
     occ.insertScan(o, pts);
     const double a = w.elapsedMs();
+    w.restart();
+    opening_index.update();
+    t_mark.v.push_back(w.elapsedMs());
+    if (frame % 5 == 0) {
+      w.restart();
+      const std::vector<Opening> pass = findOpenings(occ, o, std::nullopt);
+      t_plan_pass.v.push_back(w.elapsedMs());
+      w.restart();
+      const std::vector<Opening> kept = findOpenings(occ, opening_index.cells(), o);
+      t_plan_kept.v.push_back(w.elapsedMs());
+      bool differ = kept.size() != pass.size();
+      for (size_t i = 0; i < std::min(kept.size(), pass.size()); ++i)
+        differ |=
+            kept[i].id != pass[i].id || kept[i].viewpoint_world_m != pass[i].viewpoint_world_m;
+      openings_differ += differ;
+    }
     w.restart();
     obs.insertScan(o, pts);
     const double b = w.elapsedMs();
@@ -405,6 +428,13 @@ int main(int argc, char** argv) {
   row("one state() lookup per known cell", t_lookup, "");
   std::printf("\n%zu openings; %zu known cells have a free +x neighbour\n", openings_found,
               known_free);
+  std::printf("\nopenings per plan along the flight (every 5th frame, %zu plans):\n\n",
+              t_plan_pass.v.size());
+  header();
+  row("marking a scan's changes (OpeningCellIndex::update)", t_mark, "");
+  row("openings, pass over the whole map", t_plan_pass, "");
+  row("openings, from the kept cells", t_plan_kept, "");
+  std::printf("\nplans whose openings differ between the two: %d\n", openings_differ);
   std::printf("\npeak RSS %.1f MiB\n", efs::peakRssBytes() / double(1 << 20));
   return 0;
 }

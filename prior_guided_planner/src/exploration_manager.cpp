@@ -84,6 +84,7 @@ ExplorationManager::ExplorationManager(const ExplorationManagerConfig& config,
       prior_(std::move(prior)),
       observation_(config_.observation),
       occupancy_(config_.occupancy),
+      opening_cells_(occupancy_, config_.bounds_world_m),
       clusters_(config_.frontier),
       viewpoint_manager_(ViewpointSampler(config_.viewpoint, config_.fov)),
       path_cache_(occupancy_, config_.path),
@@ -130,6 +131,7 @@ void ExplorationManager::insertScan(const Eigen::Vector3d& origin,
   }
   observation_.insertScan(origin, pts);
   occupancy_.insertScan(origin, pts);
+  opening_cells_.update();
   path_cache_.sync();
   ++stats_.scans_inserted;
   map_dirty_ = true;
@@ -242,7 +244,7 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
     ++set_aside;
     return false;
   };
-  // Searched at most once per plan (a pass over the occupancy), whatever the retry below does.
+  // Searched at most once per plan, whatever the retry below does.
   std::optional<std::vector<Opening>> openings;
   const auto collect = [&] {
     vps.clear();
@@ -262,7 +264,7 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
       for (const PlanViewpoint& v : vps) surface.push_back(v.position_world_m);
       const auto find = [&]() -> const std::vector<Opening>& {
         if (!openings)
-          openings = findOpenings(occupancy_, robot.position_world_m, config_.bounds_world_m,
+          openings = findOpenings(occupancy_, opening_cells_.cells(), robot.position_world_m,
                                   config_.openings);
         return *openings;
       };

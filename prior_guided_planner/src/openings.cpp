@@ -25,9 +25,6 @@ void OpeningConfig::validate() const {
 
 namespace {
 
-constexpr int kHorizontal[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-/// Opening cells keep this many cells above a floor (0.6 m at 0.3 m) and one below a ceiling.
-constexpr int kFloorCells = 2;
 /// The viewpoint search starts from at most this many cluster cells (nearest the centroid).
 constexpr size_t kMaxViewpointStarts = 32;
 
@@ -72,33 +69,27 @@ std::vector<Opening> findOpenings(const OccupancyMap& occ, const Eigen::Vector3d
                                   const std::optional<Eigen::AlignedBox3d>& bounds,
                                   const OpeningConfig& cfg) {
   cfg.validate();
+  if (!robot.allFinite()) return {};
+  return findOpenings(occ, openingCellsOf(occ, bounds), robot, cfg);
+}
+
+std::vector<Opening> findOpenings(const OccupancyMap& occ, const OpeningCells& all_cells,
+                                  const Eigen::Vector3d& robot, const OpeningConfig& cfg) {
+  cfg.validate();
   std::vector<Opening> out;
   if (!robot.allFinite()) return out;
   const double r2 = cfg.search_radius_m * cfg.search_radius_m;
-  auto inBounds = [&](const Eigen::Vector3d& p) { return !bounds || bounds->contains(p); };
-  // Opening cells and, per cell, the summed direction to its unknown neighbours.
-  std::unordered_map<VoxelKey, Eigen::Vector2d, VoxelKeyHash> cells;
-  OccupancyMap::Cursor cur(occ);  // the neighbours below mostly share the cell's block
-  occ.forEachKnownCell([&](const VoxelKey& k, double, OccupancyState s) {
-    if (s != OccupancyState::kFree) return;
-    // Not hugging a floor or a ceiling: what lies under a desk or in a roof pocket is no way on,
-    // and down there the Mid-360 does not see the floor ahead.
-    for (int dz = -kFloorCells; dz <= 1; ++dz)
-      if (dz != 0 && cur.state({k.x, k.y, k.z + dz}) == OccupancyState::kOccupied) return;
-    const Eigen::Vector3d c = occ.center(k);
-    if ((c - robot).head<2>().squaredNorm() > r2 || !inBounds(c)) return;
-    Eigen::Vector2d dir = Eigen::Vector2d::Zero();
-    int unknown = 0;
-    for (const auto& d : kHorizontal) {
-      const VoxelKey n{k.x + d[0], k.y + d[1], k.z};
-      // The box's own edge is not a way on.
-      if (cur.state(n) == OccupancyState::kUnknown && inBounds(occ.center(n))) {
-        dir += Eigen::Vector2d(d[0], d[1]);
-        ++unknown;
-      }
-    }
-    if (unknown > 0) cells.emplace(k, dir);
-  });
+  const auto inRange = [&](const VoxelKey& k) {
+    return (occ.center(k) - robot).head<2>().squaredNorm() <= r2;
+  };
+  // The cells in range (all of them with the default range).
+  OpeningCells in_range;
+  const bool everything_in_range = std::all_of(all_cells.begin(), all_cells.end(),
+                                               [&](const auto& kv) { return inRange(kv.first); });
+  if (!everything_in_range)
+    for (const auto& kv : all_cells)
+      if (inRange(kv.first)) in_range.insert(kv);
+  const OpeningCells& cells = everything_in_range ? all_cells : in_range;
   // 26-connected clusters, each with where its viewpoint search starts.
   struct Candidate {
     Opening opening;  ///< all but the viewpoint

@@ -49,7 +49,8 @@ struct ExplorationManagerConfig {
   LidarFovConfig fov;
   PathSearchConfig path;
   HierarchicalPlannerConfig planner;
-  /// Free-space frontiers, asked for when no surface viewpoint remains (openings.h).
+  /// Free-space frontiers (openings.h), toured as openings_stay_in_tour below says; their cells
+  /// are kept scan by scan (opening_cells.h).
   bool use_openings = true;
   OpeningConfig openings;
   /// When no surface viewpoint lies within this horizontal range of the robot, the openings
@@ -246,6 +247,7 @@ class ExplorationManager {
   std::optional<GuidepointPrior> prior_;
   ObservationMap observation_;
   OccupancyMap occupancy_;
+  OpeningCellIndex opening_cells_;
   FrontierClusterer clusters_;
   ViewpointManager viewpoint_manager_;
   PathLengthCache path_cache_;

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "prior_guided_planner/occupancy_map.h"
+#include "prior_guided_planner/opening_cells.h"
 
 namespace efs::planner {
 
@@ -49,7 +50,7 @@ struct OpeningConfig {
   /// once no surface viewpoint is left, and then every one belongs in the tour: at 60 m the
   /// far ones of a 150 x 110 m building entered and left the set as the vehicle moved, and it
   /// crossed the building three times for the last three (paper indoor, 152 s on 7-8 openings).
-  /// The pass over the occupancy covers the whole map whatever the range; the range bounds the
+  /// The opening cells are kept for the whole map whatever the range; the range bounds the
   /// clusters given a viewpoint.
   double search_radius_m = 1000.0;
   void validate() const;
@@ -64,16 +65,21 @@ struct Opening {
 };
 
 /// The openings within search_radius_m of `robot_world_m` (and inside `bounds_world_m` when
-/// given), largest first.
+/// given), largest first. Finds the opening cells by a pass over the whole map.
 std::vector<Opening> findOpenings(const OccupancyMap& occupancy,
                                   const Eigen::Vector3d& robot_world_m,
                                   const std::optional<Eigen::AlignedBox3d>& bounds_world_m,
+                                  const OpeningConfig& config = {});
+/// The same from the map's opening cells (openingCellsOf, or an OpeningCellIndex's, with the
+/// bounds they were found with).
+std::vector<Opening> findOpenings(const OccupancyMap& occupancy, const OpeningCells& cells,
+                                  const Eigen::Vector3d& robot_world_m,
                                   const OpeningConfig& config = {});
 
 /// The openings a plan tours (ExplorationManagerConfig::near_openings_radius_m): all of them
 /// when no surface viewpoint is left; when no surface viewpoint lies within `near_radius_m`
 /// (horizontally) of the robot, those of at least `near_min_cells` whose viewpoint is that
-/// close; none otherwise. `find` (findOpenings, a pass over the map) is called only when
+/// close; none otherwise. `find` (findOpenings) is called only when
 /// openings are wanted. A radius of 0 wants openings only once no surface viewpoint is left.
 std::vector<Opening> openingsToTour(const std::vector<Eigen::Vector3d>& surface_viewpoints_world_m,
                                     const Eigen::Vector3d& robot_world_m, double near_radius_m,
