@@ -5,8 +5,9 @@
 // surface frontiers of the observation map (EPIC's, paper Sec. VI-A) miss a door to an unseen
 // room: what the LiDAR saw through it is close, hence well observed, and its edge borders
 // unknown space, not a poorly observed surface (seen: a real office, ed21, "explored" after one
-// second from a 3 x 4 m room). The exploration manager asks for openings only when no surface
-// viewpoint remains, so they finish the job where the surface frontiers cannot see a way on.
+// second from a 3 x 4 m room). The exploration manager tours them beside the surface
+// viewpoints, from a flight's first plan on (OpeningTourMembership below), and keeps their cells
+// scan by scan (opening_cells.h).
 // Unknown cells above and below do not count: the Mid-360 sees little up and down, and a
 // ceiling or floor not seen yet is a surface for the observation map, not a way into new space.
 // Cells right above a floor (two cells) or below a ceiling do not count either (the space under
