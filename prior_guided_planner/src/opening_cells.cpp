@@ -48,13 +48,20 @@ std::optional<Eigen::Vector2d> openingDirection(const OccupancyMap& occ, Occupan
   return dir;
 }
 
-/// Calls f(cell) for every cell whose status a change of `changed` can alter: the cell, its
-/// horizontal neighbours (their unknown neighbour), and the cells up to two above and one below
-/// it (their floor or ceiling).
+/// Calls f(cell) for every cell whose status the change can alter: the cell itself; its
+/// horizontal neighbours when it became or stopped being unknown (their unknown neighbour); the
+/// cells up to two above and one below it when it became or stopped being occupied (their
+/// floor or ceiling).
 template <typename F>
-void forEachAffected(const VoxelKey& changed, F&& f) {
-  for (int dz = -kCeilingCells; dz <= kFloorCells; ++dz) f({changed.x, changed.y, changed.z + dz});
-  for (const auto& d : kHorizontal) f({changed.x + d[0], changed.y + d[1], changed.z});
+void forEachAffected(const CellChange& change, F&& f) {
+  const VoxelKey& c = change.cell;
+  f(c);
+  const auto was_or_is = [&](OccupancyState s) { return change.before == s || change.after == s; };
+  if (was_or_is(OccupancyState::kOccupied))
+    for (int dz = -kCeilingCells; dz <= kFloorCells; ++dz)
+      if (dz != 0) f({c.x, c.y, c.z + dz});
+  if (was_or_is(OccupancyState::kUnknown))
+    for (const auto& d : kHorizontal) f({c.x + d[0], c.y + d[1], c.z});
 }
 
 }  // namespace
@@ -84,7 +91,7 @@ void OpeningCellIndex::update() {
   } else if (occ_.lastChangesListed()) {
     OccupancyMap::Cursor cur(occ_);
     for (const CellChange& c : occ_.lastChangedCells())
-      forEachAffected(c.cell, [&](const VoxelKey& k) { refresh(k, cur); });
+      forEachAffected(c, [&](const VoxelKey& k) { refresh(k, cur); });
   } else {
     for (const VoxelKey& b : occ_.lastChangedBlocks()) dirty_blocks_.insert(b);
   }
