@@ -28,10 +28,6 @@ namespace {
 /// The viewpoint search starts from at most this many cluster cells (nearest the centroid).
 constexpr size_t kMaxViewpointStarts = 32;
 
-bool keyLess(const VoxelKey& a, const VoxelKey& b) {
-  return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z);
-}
-
 /// Where to look through an opening from: the first known-free place (a ball of
 /// `clearance_m`) stepping back from the opening cells nearest its centre (`starts`)
 /// away from the unknown side, up to max_backoff_m, a cell or two up where a floor was not
@@ -73,24 +69,13 @@ std::vector<Opening> findOpenings(const OccupancyMap& occ, const Eigen::Vector3d
   return findOpenings(occ, openingCellsOf(occ, bounds), robot, cfg);
 }
 
-std::vector<Opening> findOpenings(const OccupancyMap& occ, const OpeningCells& all_cells,
+std::vector<Opening> findOpenings(const OccupancyMap& occ, const OpeningCells& cells,
                                   const Eigen::Vector3d& robot, const OpeningConfig& cfg) {
   cfg.validate();
   std::vector<Opening> out;
   if (!robot.allFinite()) return out;
   const double r2 = cfg.search_radius_m * cfg.search_radius_m;
-  const auto inRange = [&](const VoxelKey& k) {
-    return (occ.center(k) - robot).head<2>().squaredNorm() <= r2;
-  };
-  // The cells in range (all of them with the default range).
-  OpeningCells in_range;
-  const bool everything_in_range = std::all_of(all_cells.begin(), all_cells.end(),
-                                               [&](const auto& kv) { return inRange(kv.first); });
-  if (!everything_in_range)
-    for (const auto& kv : all_cells)
-      if (inRange(kv.first)) in_range.insert(kv);
-  const OpeningCells& cells = everything_in_range ? all_cells : in_range;
-  // 26-connected clusters, each with where its viewpoint search starts.
+  // 26-connected clusters of the cells in range, each with where its viewpoint search starts.
   struct Candidate {
     Opening opening;  ///< all but the viewpoint
     std::vector<Eigen::Vector3d> starts;
@@ -98,7 +83,8 @@ std::vector<Opening> findOpenings(const OccupancyMap& occ, const OpeningCells& a
   };
   std::vector<Candidate> candidates;
   std::unordered_set<VoxelKey, VoxelKeyHash> pending;
-  for (const auto& [k, unused] : cells) pending.insert(k);
+  for (const auto& [k, unused] : cells)
+    if ((occ.center(k) - robot).head<2>().squaredNorm() <= r2) pending.insert(k);
   while (!pending.empty()) {
     const std::vector<VoxelKey> cluster = takeComponent26(*pending.begin(), pending);
     if (static_cast<int>(cluster.size()) < cfg.min_cells) continue;
@@ -112,7 +98,7 @@ std::vector<Opening> findOpenings(const OccupancyMap& occ, const OpeningCells& a
       sum[1] += k.y;
       sum[2] += k.z;
       dir += cells.at(k);
-      if (keyLess(k, smallest)) smallest = k;
+      if (voxelKeyLess(k, smallest)) smallest = k;
     }
     const int64_t n = static_cast<int64_t>(cluster.size());
     const auto offsetSquared = [&](const VoxelKey& k) {  // (n (k - centroid))^2 in cells^2
@@ -125,7 +111,7 @@ std::vector<Opening> findOpenings(const OccupancyMap& occ, const OpeningCells& a
     std::vector<std::pair<double, VoxelKey>> by_distance;
     for (const VoxelKey& k : cluster) by_distance.push_back({offsetSquared(k), k});
     std::sort(by_distance.begin(), by_distance.end(), [](const auto& a, const auto& b) {
-      return a.first != b.first ? a.first < b.first : keyLess(a.second, b.second);
+      return a.first != b.first ? a.first < b.first : voxelKeyLess(a.second, b.second);
     });
     if (by_distance.size() > kMaxViewpointStarts) by_distance.resize(kMaxViewpointStarts);
     Candidate c;
@@ -189,8 +175,8 @@ std::vector<Opening> OpeningTourMembership::select(
                                             near_radius_m, near_min_cells, find);
   // The first plan of a flight, over the map of one scan, has no surface viewpoint yet: the
   // openings join there and, where some are always found (a large garage), stay in every tour.
-  // Waiting for surface viewpoints to run out instead (tried at stop 39) made 33 of 48
-  // quick-tier flights differ and most slower (SubT precise 58.7 -> 80.8 s on average).
+  // Waiting for surface viewpoints to run out instead (tried at stop 39) made most quick-tier
+  // flights slower (README, "Openings are toured from the first plan").
   joined_ = stay_once_joined_ && surface_viewpoints_world_m.empty() && !out.empty();
   return out;
 }

@@ -6,7 +6,6 @@
 #include <cstring>
 #include <limits>
 #include <queue>
-#include <tuple>
 
 #include "efs_common/config_check.h"
 #include "efs_common/segment_distance.h"
@@ -65,10 +64,6 @@ struct QItem {
   bool operator>(const QItem& o) const { return f > o.f; }
 };
 using OpenQueue = std::priority_queue<QItem, std::vector<QItem>, std::greater<QItem>>;
-
-bool keyLess(const VoxelKey& x, const VoxelKey& y) {
-  return std::tie(x.x, x.y, x.z) < std::tie(y.x, y.y, y.z);
-}
 
 /// Whether some leg of the polyline passes within `reach` of p.
 bool polylineWithin(const std::vector<Eigen::Vector3d>& w, const Eigen::Vector3d& p, double reach) {
@@ -632,7 +627,7 @@ std::vector<PathSearchResult> PathSearch::searchFrom(const Eigen::Vector3d& a,
         goal_joins.push_back({k, {static_cast<int>(i), c}});
   }
   std::sort(goal_joins.begin(), goal_joins.end(),
-            [](const auto& x, const auto& y) { return keyLess(x.first, y.first); });
+            [](const auto& x, const auto& y) { return voxelKeyLess(x.first, y.first); });
 
   // Dijkstra from the start nodes until every goal node is settled (or the budget ends); each
   // target keeps its best join node. Over wide nodes first; the targets that stay unreached get
@@ -662,7 +657,7 @@ std::vector<PathSearchResult> PathSearch::searchFrom(const Eigen::Vector3d& a,
         [&](const VoxelKey& k, double g) {
           auto lo = std::lower_bound(
               goals.begin(), goals.end(), k,
-              [&](const auto& gj, const VoxelKey& key) { return keyLess(gj.first, key); });
+              [&](const auto& gj, const VoxelKey& key) { return voxelKeyLess(gj.first, key); });
           if (lo == goals.end() || lo->first != k) return;
           --goals_left;
           for (; lo != goals.end() && lo->first == k; ++lo) {

@@ -18,6 +18,11 @@ struct VoxelKey {
   bool operator!=(const VoxelKey& o) const { return !(*this == o); }
 };
 
+/// A total order of keys (x, then y, then z): tie-breaks that must not depend on hash order.
+inline bool voxelKeyLess(const VoxelKey& a, const VoxelKey& b) {
+  return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z);
+}
+
 struct VoxelKeyHash {
   std::size_t operator()(const VoxelKey& k) const noexcept {
     // Large odd primes decorrelate the axes (Teschner et al. 2003 spatial hashing).
