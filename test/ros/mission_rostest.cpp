@@ -16,8 +16,15 @@
 //                          map there when it finishes (a dense cloud of the cave, an OctoMap with
 //                          occupied and free cells, the track, the registration) and write it
 //                          again when asked over its save_map service.
-//   ~expect_active_hypothesis  the registration file must name the hypothesis the guidance used
-//                          (a sketch of this place) or none ("null": no sketch, wrong sketch).
+//   ~expect_active_hypothesis  true, a sketch of this place: the registration must report a
+//                          hypothesis before the planner finishes and the planner's registration
+//                          file must list it; if it came at least ~guidance_window_s before the
+//                          planner finished, the planner must have flown guided by it and the file
+//                          must name it. (A later one can find every guidepoint explored, and the
+//                          planner rightly stays prior-free: when it comes varies by 15 s and more
+//                          from run to run with the nodes' timing.) False, no sketch or a wrong
+//                          one: the file names none ("null").
+//   ~guidance_window_s     see above (default 30)
 #include <explore_from_sketch/ExplorationStatus.h>
 #include <explore_from_sketch/LioStatus.h>
 #include <explore_from_sketch/RegistrationHypotheses.h>
@@ -32,8 +39,10 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "efs_common/pcd_io.h"
 
@@ -56,6 +65,7 @@ struct Expectations {
   bool expect_no_hypothesis = false;
   std::string map_dir;
   bool expect_active_hypothesis = false;
+  double guidance_window_s = 30.0;
 };
 
 Expectations readExpectations() {
@@ -69,6 +79,7 @@ Expectations readExpectations() {
   p.param("expect_no_hypothesis", e.expect_no_hypothesis, e.expect_no_hypothesis);
   p.param("map_dir", e.map_dir, e.map_dir);
   p.param("expect_active_hypothesis", e.expect_active_hypothesis, e.expect_active_hypothesis);
+  p.param("guidance_window_s", e.guidance_window_s, e.guidance_window_s);
   return e;
 }
 
@@ -92,6 +103,19 @@ class MissionWatch {
   bool saw_stale = false;
   double max_hypotheses = 0;
   std::string last_registration_status;
+  std::optional<double> first_hypothesis_s;
+  double coverage_at_first_hypothesis = 0.0;  // ground truth, from the simulator's last status
+  bool saw_guided = false;
+  // Runs of the same registration status and planner state over simulated time, for the
+  // end-of-mission lines that say when (or whether) the sketch registered and guided the flight:
+  // "too_few_frames 0.3-10.3 s, ok 20.3-75.4 s".
+  struct StatusRun {
+    std::string code;
+    double first_s = 0.0;
+    double last_s = 0.0;
+  };
+  std::vector<StatusRun> registration_runs;
+  std::vector<StatusRun> planner_runs;
   // Ground-truth speed over the last fifth of the dropout (the hold) and distance after it.
   double max_speed_late_in_dropout_mps = 0.0;
   bool sampled_late_in_dropout = false;
@@ -110,6 +134,8 @@ class MissionWatch {
   void onExploration(const ExplorationStatus::ConstPtr& m) {
     std::lock_guard<std::mutex> lock(mutex);
     last_state = m->state;
+    extend(planner_runs, stateName(m->state), m->header.stamp.toSec());
+    saw_guided |= m->state == ExplorationStatus::STATE_EXPLORING_PRIOR_GUIDED;
     if (m->state == ExplorationStatus::STATE_FINISHED && !finished) {
       finished = true;
       finished_sim_time_s = m->header.stamp.toSec();
@@ -122,7 +148,34 @@ class MissionWatch {
   void onHypotheses(const RegistrationHypotheses::ConstPtr& m) {
     std::lock_guard<std::mutex> lock(mutex);
     max_hypotheses = std::max<double>(max_hypotheses, m->hypotheses.size());
+    if (!m->hypotheses.empty() && !first_hypothesis_s) {
+      first_hypothesis_s = m->header.stamp.toSec();
+      coverage_at_first_hypothesis = sim.coverage;
+    }
     last_registration_status = m->status_text;
+    extend(registration_runs, m->status_text.substr(0, m->status_text.find(':')),
+           m->header.stamp.toSec());
+  }
+  static void extend(std::vector<StatusRun>& runs, const std::string& code, double t) {
+    if (runs.empty() || runs.back().code != code) runs.push_back({code, t, t});
+    runs.back().last_s = t;
+  }
+  static std::string stateName(uint8_t state) {
+    switch (state) {
+      case ExplorationStatus::STATE_INIT:
+        return "init";
+      case ExplorationStatus::STATE_WAITING_FOR_REGISTRATION:
+        return "waiting_for_registration";
+      case ExplorationStatus::STATE_EXPLORING_PRIOR_GUIDED:
+        return "prior_guided";
+      case ExplorationStatus::STATE_EXPLORING_PRIOR_FREE:
+        return "prior_free";
+      case ExplorationStatus::STATE_FINISHED:
+        return "finished";
+      case ExplorationStatus::STATE_EMERGENCY:
+        return "emergency";
+    }
+    return "state " + std::to_string(state);
   }
   void onTruth(const nav_msgs::Odometry::ConstPtr& m) {
     if (e_.lio_dropout_duration_s <= 0.0) return;
@@ -140,6 +193,19 @@ class MissionWatch {
   std::vector<ros::Subscriber> subs_;
 };
 
+std::string timeline(const std::vector<MissionWatch::StatusRun>& runs) {
+  if (runs.empty()) return "no status received";
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(1);
+  for (size_t i = 0; i < runs.size(); ++i) {
+    out << (i ? ", " : "") << runs[i].code << ' ' << runs[i].first_s;
+    if (runs[i].last_s > runs[i].first_s) out << '-' << runs[i].last_s;
+    out << " s";
+  }
+  return out.str();
+}
+
 std::string readFile(const std::string& path) {
   std::ifstream in(path);
   std::stringstream ss;
@@ -149,7 +215,8 @@ std::string readFile(const std::string& path) {
 
 /// The mission map the planner wrote into `dir`: every file there and readable by its own reader,
 /// a cloud and an occupancy of a cave (not of nothing), the registration as expected.
-void checkMissionMap(const std::string& dir, const Expectations& e, double travelled_m) {
+void checkMissionMap(const std::string& dir, const Expectations& e, double travelled_m,
+                     bool guidance_expected) {
   const std::vector<Eigen::Vector3f> cloud = efs::loadPcdPoints(dir + "/cloud.pcd");
   EXPECT_GT(cloud.size(), 20000u) << "a dense cloud of the explored cave";
   octomap::OcTree tree(dir + "/occupancy.bt");
@@ -181,9 +248,17 @@ void checkMissionMap(const std::string& dir, const Expectations& e, double trave
   EXPECT_EQ(track.rfind("time_s,x_m,y_m,z_m,yaw_rad\n", 0), 0u);
   EXPECT_GT(rows, 0.5 * travelled_m / 0.2) << "a track sample every 0.2 m of flight";
   const std::string reg = readFile(dir + "/registration.yaml");
-  EXPECT_EQ(reg.find("active_hypothesis_id: null") == std::string::npos,
-            e.expect_active_hypothesis)
-      << reg;
+  const bool names_one = reg.find("active_hypothesis_id: null") == std::string::npos;
+  if (!e.expect_active_hypothesis) {
+    EXPECT_FALSE(names_one) << reg;
+  }
+  if (guidance_expected) {
+    EXPECT_TRUE(names_one) << reg;
+  }
+  if (e.expect_active_hypothesis) {
+    EXPECT_EQ(reg.find("hypotheses: []"), std::string::npos) << "the planner kept no hypothesis\n"
+                                                             << reg;
+  }
 }
 
 TEST(Mission, ExploresToTheCoverageGoalWithoutCollision) {
@@ -215,6 +290,8 @@ TEST(Mission, ExploresToTheCoverageGoalWithoutCollision) {
   const SimulatorStatus& s = watch.sim;
   ROS_INFO("mission_rostest: ended at t = %.1f s: coverage %.1f %%, %.1f m, finished %d",
            s.sim_time, 100.0 * s.coverage, s.travelled_distance, watch.finished);
+  ROS_INFO("mission_rostest: registration: %s", timeline(watch.registration_runs).c_str());
+  ROS_INFO("mission_rostest: planner: %s", timeline(watch.planner_runs).c_str());
   EXPECT_FALSE(s.collided) << "collision at (" << s.collision_position.x << ", "
                            << s.collision_position.y << ", " << s.collision_position.z << ")";
   EXPECT_TRUE(watch.finished) << "the planner did not finish within " << e.sim_time_limit_s
@@ -241,6 +318,23 @@ TEST(Mission, ExploresToTheCoverageGoalWithoutCollision) {
     EXPECT_GT(s.travelled_distance, watch.distance_at_dropout_end_m + 5.0)
         << "the vehicle did not carry on after the dropout";
   }
+  bool guidance_expected = false;
+  if (e.expect_active_hypothesis) {
+    EXPECT_TRUE(watch.first_hypothesis_s.has_value())
+        << "the sketch never registered: " << timeline(watch.registration_runs);
+    guidance_expected =
+        watch.first_hypothesis_s && watch.finished &&
+        *watch.first_hypothesis_s + e.guidance_window_s <= watch.finished_sim_time_s;
+    if (watch.first_hypothesis_s)
+      ROS_INFO("mission_rostest: first hypothesis at t = %.1f s, coverage %.1f %%: guidance %s",
+               *watch.first_hypothesis_s, 100.0 * watch.coverage_at_first_hypothesis,
+               guidance_expected ? "expected" : "not required (too late)");
+    if (guidance_expected) {
+      EXPECT_TRUE(watch.saw_guided)
+          << "a hypothesis from t = " << *watch.first_hypothesis_s
+          << " s on, but the planner never flew guided by it: " << timeline(watch.planner_runs);
+    }
+  }
   if (!e.map_dir.empty() && watch.finished) {
     // Written by the planner when it said it finished; give its file writing a moment.
     const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(20.0);
@@ -249,7 +343,7 @@ TEST(Mission, ExploresToTheCoverageGoalWithoutCollision) {
       ros::WallDuration(0.2).sleep();
     ASSERT_TRUE(std::filesystem::exists(e.map_dir + "/registration.yaml"))
         << "the planner left no mission map in " << e.map_dir;
-    checkMissionMap(e.map_dir, e, s.travelled_distance);
+    checkMissionMap(e.map_dir, e, s.travelled_distance, guidance_expected);
     // And again on request, over the service (into a folder emptied first).
     std::filesystem::remove_all(e.map_dir);
     std_srvs::Trigger call;
