@@ -13,7 +13,7 @@
 //   ~expect_no_hypothesis  a sketch of another place: registration must never report a
 //                          hypothesis (its status says why).
 //   ~map_dir               if set (the launch file's map_dir): the planner must leave the mission
-//                          map there when it finishes (a dense cloud of the cave, an OctoMap with
+//                          map there when it finishes (a dense cloud of the world, an OctoMap with
 //                          occupied and free cells, the track, the registration) and write it
 //                          again when asked over its save_map service.
 //   ~expect_active_hypothesis  true, a sketch of this place: the registration must report a
@@ -214,11 +214,11 @@ std::string readFile(const std::string& path) {
 }
 
 /// The mission map the planner wrote into `dir`: every file there and readable by its own reader,
-/// a cloud and an occupancy of a cave (not of nothing), the registration as expected.
+/// a cloud and an occupancy of the world flown (not of nothing), the registration as expected.
 void checkMissionMap(const std::string& dir, const Expectations& e, double travelled_m,
                      bool guidance_expected) {
   const std::vector<Eigen::Vector3f> cloud = efs::loadPcdPoints(dir + "/cloud.pcd");
-  EXPECT_GT(cloud.size(), 20000u) << "a dense cloud of the explored cave";
+  EXPECT_GT(cloud.size(), 20000u) << "a dense cloud of the explored world";
   octomap::OcTree tree(dir + "/occupancy.bt");
   size_t occupied = 0, free = 0;
   for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it)
