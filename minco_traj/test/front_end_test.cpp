@@ -215,6 +215,29 @@ TEST(LocalGrid, AFloorSeenBelowTheWindowIsThereWhenTheWindowComesDown) {
   EXPECT_EQ(forgetful.rememberedCount(), 0u);
 }
 
+/// Cells of g's window whose inflation (full, or narrow at 0.36 m) differs from that of a grid
+/// built afresh around `c` from g's occupied cells; `inflated` counts g's inflated cells.
+int layersDifferingFromAFreshGrid(const LocalGrid& g, const LocalGridConfig& cfg,
+                                  const Eigen::Vector3d& c, int* inflated) {
+  LocalGrid fresh(cfg, c);
+  if (fresh.minKey() != g.minKey()) return -1;
+  std::vector<Eigen::Vector3d> occ;
+  g.occupiedCentersInBox(g.windowMin(), g.windowMax(), occ);
+  for (const auto& p : occ) fresh.setOccupied(p);
+  const VoxelKey lo = g.minKey(), hi = g.maxKey();
+  int differ = 0;
+  *inflated = 0;
+  for (int x = lo.x; x <= hi.x; ++x)
+    for (int y = lo.y; y <= hi.y; ++y)
+      for (int z = lo.z; z <= hi.z; ++z) {
+        const VoxelKey k{x, y, z};
+        differ += g.isInflated(k) != fresh.isInflated(k) ||
+                  g.isBlocked(k, true, 0.36) != fresh.isBlocked(k, true, 0.36);
+        *inflated += g.isInflated(k);
+      }
+  return differ;
+}
+
 TEST(LocalGrid, InflationAfterRecentringMatchesAFreshGrid) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1.5, 1.5);
@@ -224,19 +247,8 @@ TEST(LocalGrid, InflationAfterRecentringMatchesAFreshGrid) {
   for (const Eigen::Vector3d& c :
        {Eigen::Vector3d(0.7, -0.4, 0.1), Eigen::Vector3d(-0.3, 0.9, 0), Eigen::Vector3d(5, 5, 0)}) {
     g.recenter(c);
-    LocalGrid fresh(cfg, c);
-    std::vector<Eigen::Vector3d> occ;
-    g.occupiedCentersInBox(g.windowMin(), g.windowMax(), occ);
-    for (const auto& p : occ) fresh.setOccupied(p);
-    const VoxelKey lo = g.minKey(), hi = g.maxKey();
     int inflated = 0;
-    for (int x = lo.x; x <= hi.x; ++x)
-      for (int y = lo.y; y <= hi.y; ++y)
-        for (int z = lo.z; z <= hi.z; ++z) {
-          const VoxelKey k{x, y, z};
-          ASSERT_EQ(g.isInflated(k), fresh.isInflated(k)) << x << " " << y << " " << z;
-          inflated += g.isInflated(k);
-        }
+    EXPECT_EQ(layersDifferingFromAFreshGrid(g, cfg, c, &inflated), 0);
     if (c.x() < 1.0) {
       EXPECT_GT(inflated, 0);
     }
@@ -324,6 +336,43 @@ TEST(LocalGrid, InflationLayersMatchBruteForceAfterUpdatesAndMoves) {
     ++checked_moves;
   }
   EXPECT_EQ(checked_moves, 5);
+}
+
+// The inflation is carried across window moves (cells leaving take their stamps off, those that
+// stay stamp the slots that enter, remembered cells coming back stamp around them): after every
+// move of a wandering window, in all three axes and back over remembered cells, both layers equal
+// those of a grid built afresh from the same occupied cells, and once every occupied cell is
+// freed no cell is inflated (a count left over would keep one).
+TEST(LocalGrid, InflationCarriedAcrossMovesEqualsAFreshGrid) {
+  LocalGridConfig cfg = smallGrid(0.45);
+  cfg.narrow_radius_m = 0.36;
+  cfg.memory_radius_m = 50.0;
+  LocalGrid g(cfg, Eigen::Vector3d(0, 0, 0.3));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.4, 1.4), uz(-0.3, 0.3);
+  const std::vector<Eigen::Vector3d> path = {
+      {0.0, 0.0, 0.3},  {0.7, 0.2, 0.3},  {1.3, -0.6, 0.5}, {0.4, -1.2, 0.1}, {-0.8, -0.5, 0.3},
+      {-1.9, 0.8, 0.6}, {-0.2, 0.4, 0.2}, {2.6, 2.1, 0.3},  {0.1, 0.0, 0.3},  {-0.3, 0.2, 0.9}};
+  int compared = 0;
+  for (const Eigen::Vector3d& c : path) {
+    g.recenter(c);
+    for (int i = 0; i < 25; ++i) g.setOccupied(c + Eigen::Vector3d(u(rng), u(rng), uz(rng)));
+    int inflated = 0;
+    EXPECT_EQ(layersDifferingFromAFreshGrid(g, cfg, c, &inflated), 0)
+        << "after the move to " << c.transpose();
+    EXPECT_GT(inflated, 0);
+    ++compared;
+  }
+  EXPECT_EQ(compared, static_cast<int>(path.size()));
+  EXPECT_GT(g.rememberedCount(), 0u);  // the path left cells behind, and came back over some
+  std::vector<Eigen::Vector3d> occ;
+  g.occupiedCentersInBox(g.windowMin(), g.windowMax(), occ);
+  for (const auto& p : occ) g.setFree(p);
+  const VoxelKey lo = g.minKey(), hi = g.maxKey();
+  for (int x = lo.x; x <= hi.x; ++x)
+    for (int y = lo.y; y <= hi.y; ++y)
+      for (int z = lo.z; z <= hi.z; ++z)
+        ASSERT_FALSE(g.isInflated({x, y, z})) << x << " " << y << " " << z;
 }
 
 // Rays are cut to the window: a small window sees exactly the cells a large one sees inside it,

@@ -154,8 +154,19 @@ class LocalGrid {
   }
   void setWindow(const VoxelKey& min_key);
   void updateCell(size_t idx, const VoxelKey& k, float delta);
-  void stampInflation(const VoxelKey& k, int sign);
-  void recomputeInflation();
+  /// Per-axis flags over the slots (1: the slot's key entered the window with its last move).
+  struct EnteringSlots {
+    const uint8_t* x;
+    const uint8_t* y;
+    const uint8_t* z;
+  };
+  /// Adds (sign +1) or removes (-1) the occupied cell k's ball to the inflation counts; with
+  /// `only`, to the cells of entering slots alone.
+  void stampInflation(const VoxelKey& k, int sign, const EnteringSlots* only = nullptr);
+  /// Visits (slot index, ix, iy, iz) of every slot flagged on at least one axis.
+  template <typename Visit>
+  void forEachChangingSlot(const std::vector<uint8_t>& ch_x, const std::vector<uint8_t>& ch_y,
+                           const std::vector<uint8_t>& ch_z, Visit&& visit) const;
   bool isInterior(const VoxelKey& k) const;
   /// The block (kMemoryBlockBits cells a side) of the surface memory a cell belongs to.
   static VoxelKey memoryBlock(const VoxelKey& k) {
@@ -170,7 +181,8 @@ class LocalGrid {
   void rememberHitAboveOrBelow(const VoxelKey& k, float logodds);
   /// The log-odds change of a hit on a cell holding `logodds` (hit_overrides_free).
   float hitDelta(float logodds) const;
-  /// Brings remembered cells inside the window back into it (and out of the memory).
+  /// Brings remembered cells inside the window back into it (and out of the memory), with their
+  /// inflation.
   void restoreRemembered();
   /// Drops memory blocks beyond memory_radius_m of the window centre.
   void cropMemory();
