@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 #include <random>
 
 #include "efs_common/config_check.h"
@@ -108,6 +109,42 @@ TEST(LocalMap, DownsamplesSkipsInvalidPointsAndCropsTheWindow) {
   ASSERT_EQ(map.size(), 1u);
   EXPECT_NEAR(map.points()[0].x(), 0.545f, 1e-5);
   EXPECT_EQ(map.insert(pts, Eigen::Vector3d::Constant(std::nan(""))), 0u);
+}
+
+// Returns in runs within one voxel, alternating between voxels, with invalid returns inside a
+// run, over two scans: each voxel holds the centroid of exactly its own returns.
+TEST(LocalMap, EveryReturnCountsInItsOwnVoxelWhateverTheOrder) {
+  LocalMapConfig c;
+  c.voxel_size_m = 1.0;
+  c.max_range_m = 30.0;
+  LocalMap map(c);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> u(0.05f, 0.95f);
+  std::uniform_int_distribution<int> voxel(0, 3), run(1, 5);
+  std::map<int, std::pair<Eigen::Vector3f, int>> expected;  // voxel -> (sum, count)
+  for (int scan = 0; scan < 2; ++scan) {
+    std::vector<Eigen::Vector3f> pts;
+    while (pts.size() < 300) {
+      const int v = voxel(rng);
+      for (int i = run(rng); i > 0; --i) {
+        const Eigen::Vector3f p(v + u(rng), u(rng), u(rng));
+        pts.push_back(p);
+        auto& [sum, n] = expected.try_emplace(v, Eigen::Vector3f::Zero(), 0).first->second;
+        sum += p;
+        ++n;
+        if (i == 2) pts.emplace_back(std::nanf(""), 0.5f, 0.5f);
+        if (i == 3) pts.emplace_back(v + 40.5f, 0.5f, 0.5f);  // beyond max_range_m
+      }
+    }
+    map.insert(pts, Eigen::Vector3d::Zero());
+  }
+  ASSERT_EQ(map.size(), expected.size());
+  for (const Eigen::Vector3f& centroid : map.points()) {
+    const int v = static_cast<int>(std::floor(centroid.x()));
+    ASSERT_TRUE(expected.count(v)) << centroid.transpose();
+    const auto& [sum, n] = expected.at(v);
+    EXPECT_LT((centroid - sum / static_cast<float>(n)).norm(), 1e-4f) << "voxel " << v;
+  }
 }
 
 TEST(FrameDecimator, EmitsAtTheConfiguredRate) {

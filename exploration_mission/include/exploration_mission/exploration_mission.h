@@ -75,6 +75,9 @@ struct MissionLog {
   /// Closest the vehicle's centre came to the world's surface (sampled at 10 Hz, capped at 2 m;
   /// the simulator's collision radius is 0.25 m): the safety margin the flight kept.
   double min_clearance_m = 2.0;
+  /// Thread CPU per component, each counted once: registration = its accumulated map (lio_bridge's
+  /// work in the ROS graph) and its frames; planner = the exploration maps, the mission map and
+  /// planning (until 2026-11-29 it also held the registration's, frames counted in both).
   double registration_cpu_s = 0.0, planner_cpu_s = 0.0, trajectory_cpu_s = 0.0;
   double simulator_cpu_s = 0.0;
 };
