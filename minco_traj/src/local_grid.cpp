@@ -131,17 +131,18 @@ void LocalGrid::recenter(const Eigen::Vector3d& c) {
   const VoxelKey new_min{ck.x - nx_ / 2, ck.y - ny_ / 2, ck.z - nz_ / 2};
   if (new_min == min_key_) return;
   const VoxelKey old_min = min_key_;
-  // Per slot and axis: does the key the slot holds leave (old window) / enter (new window)? A
-  // slot's key leaves on some axis exactly when the slot's new key enters on it.
-  auto changing = [](int old_lo, int new_lo, int n) {
+  // The key each slot holds in the old window, and per slot and axis whether it leaves: a slot's
+  // key leaves on some axis exactly when the slot's new key enters on it.
+  const std::vector<int> kx = slotKeys(old_min.x, nx_), ky = slotKeys(old_min.y, ny_),
+                         kz = slotKeys(old_min.z, nz_);
+  auto changing = [](const std::vector<int>& keys, int new_lo, int n) {
     std::vector<uint8_t> out(n);
-    const std::vector<int> keys = slotKeys(old_lo, n);
     for (int i = 0; i < n; ++i) out[i] = keys[i] < new_lo || keys[i] >= new_lo + n;
     return out;
   };
-  const auto ch_x = changing(old_min.x, new_min.x, nx_);
-  const auto ch_y = changing(old_min.y, new_min.y, ny_);
-  const auto ch_z = changing(old_min.z, new_min.z, nz_);
+  const auto ch_x = changing(kx, new_min.x, nx_);
+  const auto ch_y = changing(ky, new_min.y, ny_);
+  const auto ch_z = changing(kz, new_min.z, nz_);
   const bool all_change = std::all_of(ch_x.begin(), ch_x.end(), [](uint8_t b) { return b; }) ||
                           std::all_of(ch_y.begin(), ch_y.end(), [](uint8_t b) { return b; }) ||
                           std::all_of(ch_z.begin(), ch_z.end(), [](uint8_t b) { return b; });
@@ -150,8 +151,6 @@ void LocalGrid::recenter(const Eigen::Vector3d& c) {
   // recenter_distance_m touches a slab of the window, and the window's occupied surface stamped
   // anew cost some 30 ms per move (traj_bench). Occupied cells that leave take their stamps off
   // the cells that stay, before the window moves (their keys are those of the old window).
-  const std::vector<int> kx = slotKeys(old_min.x, nx_), ky = slotKeys(old_min.y, ny_),
-                         kz = slotKeys(old_min.z, nz_);
   if (!all_change)
     forEachChangingSlot(ch_x, ch_y, ch_z, [&](size_t idx, int ix, int iy, int iz) {
       if (cells_[idx].occupied) stampInflation({kx[ix], ky[iy], kz[iz]}, -1);

@@ -131,7 +131,7 @@ void ExplorationManager::insertScan(const Eigen::Vector3d& origin,
   }
   observation_.insertScan(origin, pts);
   occupancy_.insertScan(origin, pts);
-  opening_cells_.update();
+  if (config_.use_openings) opening_cells_.update();  // else never asked: a plain cost per scan
   path_cache_.sync();
   ++stats_.scans_inserted;
   map_dirty_ = true;
