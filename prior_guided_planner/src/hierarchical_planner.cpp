@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 
 #include "efs_common/config_check.h"
@@ -16,7 +17,7 @@ void HierarchicalPlannerConfig::validate() const {
   fe_tsp.validate();
   greedy.validate();
   requireInRange("min_confidence", min_confidence, 0.0, 1e9);
-  requireInRange("prior_free_searched_viewpoints", prior_free_searched_viewpoints, 1, 100000);
+  requireInRange("tour_searched_viewpoints", tour_searched_viewpoints, 1, 100000);
   requireInRange("prior_free_max_viewpoints", prior_free_max_viewpoints, 1, 100000);
 }
 
@@ -129,9 +130,12 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) {
         std::optional<Eigen::Vector2d> terminal;
         if (res.selection.guidepoint_sequence.size() >= 2)
           terminal = res.attachments[hk].guidepoints_world_m[res.selection.guidepoint_sequence[1]];
-        res.tour =
-            solveFeTsp(in.robot, in.viewpoints, res.selection.isolated_viewpoints,
-                       res.selection.target_viewpoints, terminal, in.path_length_m, config_.fe_tsp);
+        std::vector<int> members = res.selection.isolated_viewpoints;
+        members.insert(members.end(), res.selection.target_viewpoints.begin(),
+                       res.selection.target_viewpoints.end());
+        res.tour = solveFeTsp(in.robot, in.viewpoints, res.selection.isolated_viewpoints,
+                              res.selection.target_viewpoints, terminal,
+                              boundedLengths(in, robot_len, std::move(members)), config_.fe_tsp);
         res.mode_used = BaselineMode::kProposed;
         res.active_hypothesis_id = in.hypotheses[res.used_hypotheses[hk]].id;
         if (!res.tour.viewpoints.empty()) return res;
@@ -146,13 +150,13 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) {
   return res;
 }
 
-double priorFreeEdgeEstimate_m(const Eigen::Vector3d& a_world_m, double robot_to_a_m,
-                               const Eigen::Vector3d& b_world_m, double robot_to_b_m) {
+double tourEdgeEstimate_m(const Eigen::Vector3d& a_world_m, double robot_to_a_m,
+                          const Eigen::Vector3d& b_world_m, double robot_to_b_m) {
   return std::max((a_world_m - b_world_m).norm(), std::abs(robot_to_a_m - robot_to_b_m));
 }
 
 // The tour covers every reachable viewpoint up to prior_free_max_viewpoints, though only the
-// nearest prior_free_searched_viewpoints have searched lengths between them. A tour over the
+// nearest tour_searched_viewpoints have searched lengths between them. A tour over the
 // searched ones alone does not see the work beyond them, and what it leaves out shifts as the
 // robot moves: flying east drops far western viewpoints, the western side looks short and the
 // tour turns west, and back. Seen on the paper-size cave: minutes of 2 s flips between targets
@@ -163,10 +167,9 @@ LocalTour HierarchicalPlanner::priorFreeTour(const PlanningInput& in,
   std::vector<int> toured;
   std::vector<int> unreachable;
   for (int i = 0; i < nv; ++i) (robot_len[i] < kUnreachable ? toured : unreachable).push_back(i);
-  const int n_searched = config_.prior_free_searched_viewpoints;
-  // Sorted by L(X_r, V) only when some are left unsearched (the first n_searched are searched):
-  // the ATSP's answer may depend on the order of equal choices.
-  if (static_cast<int>(toured.size()) > n_searched) {
+  // Sorted by L(X_r, V) only when some are left unsearched: the ATSP's answer may depend on the
+  // order of equal choices.
+  if (static_cast<int>(toured.size()) > config_.tour_searched_viewpoints) {
     std::stable_sort(toured.begin(), toured.end(),
                      [&](int a, int b) { return robot_len[a] < robot_len[b]; });
     if (static_cast<int>(toured.size()) > config_.prior_free_max_viewpoints)
@@ -176,12 +179,10 @@ LocalTour HierarchicalPlanner::priorFreeTour(const PlanningInput& in,
   }
   std::vector<PlanViewpoint> sub;
   for (int i : toured) sub.push_back(in.viewpoints[i]);
+  const PathLengthFn bounded = boundedLengths(in, robot_len, toured);
   const PathLengthFn sub_len = [&](int a, int b) {
-    if (a == kRobotNode || b == kRobotNode || (a < n_searched && b < n_searched))
-      return in.path_length_m(a == kRobotNode ? kRobotNode : toured[a],
-                              b == kRobotNode ? kRobotNode : toured[b]);
-    return priorFreeEdgeEstimate_m(sub[a].position_world_m, robot_len[toured[a]],
-                                   sub[b].position_world_m, robot_len[toured[b]]);
+    return bounded(a == kRobotNode ? kRobotNode : toured[a],
+                   b == kRobotNode ? kRobotNode : toured[b]);
   };
   LocalTour t = solvePriorFreeTour(in.robot, sub, sub_len, config_.fe_tsp);
   for (int& v : t.viewpoints) v = toured[v];
@@ -190,6 +191,24 @@ LocalTour HierarchicalPlanner::priorFreeTour(const PlanningInput& in,
                                   unreachable.end());
   std::sort(t.unreachable_viewpoints.begin(), t.unreachable_viewpoints.end());
   return t;
+}
+
+PathLengthFn HierarchicalPlanner::boundedLengths(const PlanningInput& in,
+                                                 const std::vector<double>& robot_len,
+                                                 std::vector<int> members) const {
+  const int n_searched = config_.tour_searched_viewpoints;
+  if (static_cast<int>(members.size()) <= n_searched) return in.path_length_m;
+  std::stable_sort(members.begin(), members.end(),
+                   [&](int a, int b) { return robot_len[a] < robot_len[b]; });
+  auto searched = std::make_shared<std::vector<bool>>(in.viewpoints.size(), false);
+  for (int k = 0; k < n_searched; ++k) (*searched)[static_cast<size_t>(members[k])] = true;
+  return [&in, &robot_len, searched](int a, int b) {
+    if (a == kRobotNode || b == kRobotNode ||
+        ((*searched)[static_cast<size_t>(a)] && (*searched)[static_cast<size_t>(b)]))
+      return in.path_length_m(a, b);
+    return tourEdgeEstimate_m(in.viewpoints[a].position_world_m, robot_len[a],
+                              in.viewpoints[b].position_world_m, robot_len[b]);
+  };
 }
 
 }  // namespace efs::planner

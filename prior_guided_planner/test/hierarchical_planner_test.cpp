@@ -224,7 +224,7 @@ TEST(HierarchicalPlanner, PriorFreeTourSearchesLengthsAmongTheNearestViewpointsO
     return (pa - pb).norm();
   };
   HierarchicalPlannerConfig c;
-  c.prior_free_searched_viewpoints = 10;
+  c.tour_searched_viewpoints = 10;
   c.prior_free_max_viewpoints = 20;
   const PlanningResult r = HierarchicalPlanner(c).plan(in);
   ASSERT_EQ(r.status, PlanningStatus::kOk);
@@ -240,11 +240,59 @@ TEST(HierarchicalPlanner, PriorFreeTourSearchesLengthsAmongTheNearestViewpointsO
   EXPECT_EQ(all.tour.viewpoints.size(), 29u);
   EXPECT_EQ(all.tour.unreachable_viewpoints, std::vector<int>{29});
   EXPECT_EQ(far_pairs, 0);
-  c.prior_free_searched_viewpoints = 0;
+  c.tour_searched_viewpoints = 0;
   EXPECT_THROW(HierarchicalPlanner{c}, ConfigError);
-  c.prior_free_searched_viewpoints = 10;
+  c.tour_searched_viewpoints = 10;
   c.prior_free_max_viewpoints = 0;
   EXPECT_THROW(HierarchicalPlanner{c}, ConfigError);
+}
+
+// The guided tour bounds its searches likewise: with 24 viewpoints around the first guidepoint
+// and the robot beside them, only pairs among the 6 nearest are searched, the rest estimated.
+TEST(HierarchicalPlanner, GuidedTourSearchesLengthsAmongTheNearestViewpointsOnly) {
+  const GuidepointPrior prior = corridor(6);
+  Scene sc;
+  sc.robot.position_world_m = {8.0, 0.0, 1.0};
+  for (int k = 0; k < 24; ++k)
+    sc.vps.push_back(PlanViewpoint{k, {0.25 * k, k % 2 == 0 ? 1.0 : -1.0, 1.0}, 0.0});
+  PlanningInput in = sc.input();
+  in.prior = &prior;
+  in.hypotheses = {Hypothesis{7, Sim2(), 0.8}};
+  const auto exact = in.path_length_m;
+  std::vector<std::pair<int, int>> searched;
+  in.path_length_m = [&](int a, int b) {
+    if (a != kRobotNode && b != kRobotNode) searched.emplace_back(a, b);
+    return exact(a, b);
+  };
+  const auto plan = [&](int n_searched) {
+    searched.clear();
+    HierarchicalPlannerConfig c;
+    c.tour_searched_viewpoints = n_searched;
+    c.reuse_sequences = false;
+    return HierarchicalPlanner(c).plan(in);
+  };
+  const PlanningResult r = plan(6);
+  ASSERT_EQ(r.status, PlanningStatus::kOk);
+  ASSERT_EQ(r.mode_used, BaselineMode::kProposed);
+  std::vector<int> members = r.selection.isolated_viewpoints;
+  members.insert(members.end(), r.selection.target_viewpoints.begin(),
+                 r.selection.target_viewpoints.end());
+  ASSERT_GT(members.size(), 12u);
+  EXPECT_EQ(r.tour.viewpoints.size(), members.size());  // every one toured all the same
+  std::sort(members.begin(), members.end(),
+            [&](int a, int b) { return exact(kRobotNode, a) < exact(kRobotNode, b); });
+  const std::vector<int> nearest(members.begin(), members.begin() + 6);
+  const auto isNear = [&](int v) {
+    return std::find(nearest.begin(), nearest.end(), v) != nearest.end();
+  };
+  int far = 0;
+  for (const auto& [a, b] : searched) far += !isNear(a) || !isNear(b);
+  EXPECT_EQ(far, 0);
+  // Unbounded, the far pairs are searched.
+  plan(1000);
+  far = 0;
+  for (const auto& [a, b] : searched) far += !isNear(a) || !isNear(b);
+  EXPECT_GT(far, 0);
 }
 
 // The robot in a passage with 8 m of frontiers ahead (+x) and 58 m behind. The whole tour goes
@@ -270,14 +318,14 @@ TEST(HierarchicalPlanner, PriorFreeTourWeighsTheViewpointsBeyondTheSearchedOnes)
     return r.tour.viewpoints.empty() ? 0.0 : vps[r.tour.viewpoints.front()].position_world_m.x();
   };
   HierarchicalPlannerConfig c;
-  c.prior_free_searched_viewpoints = 10;
+  c.tour_searched_viewpoints = 10;
   EXPECT_GT(first_x(c), 0.0);
   c.prior_free_max_viewpoints = 10;  // the tour over the searched ones alone
   EXPECT_LT(first_x(c), 0.0);
   // The estimate: exact along one passage away from the robot, a lower bound otherwise.
-  EXPECT_DOUBLE_EQ(priorFreeEdgeEstimate_m({10, 0, 0}, 10.0, {30, 0, 0}, 30.0), 20.0);
-  EXPECT_DOUBLE_EQ(priorFreeEdgeEstimate_m({10, 0, 0}, 10.0, {14, 3, 0}, 25.0), 15.0);
-  EXPECT_DOUBLE_EQ(priorFreeEdgeEstimate_m({10, 0, 0}, 10.0, {-10, 0, 0}, 10.0), 20.0);
+  EXPECT_DOUBLE_EQ(tourEdgeEstimate_m({10, 0, 0}, 10.0, {30, 0, 0}, 30.0), 20.0);
+  EXPECT_DOUBLE_EQ(tourEdgeEstimate_m({10, 0, 0}, 10.0, {14, 3, 0}, 25.0), 15.0);
+  EXPECT_DOUBLE_EQ(tourEdgeEstimate_m({10, 0, 0}, 10.0, {-10, 0, 0}, 10.0), 20.0);
 }
 
 }  // namespace

@@ -18,6 +18,7 @@ void GuidepointConfig::validate() const {
   requireInRange("min_dead_end_factor", min_dead_end_factor, 0.0, 20.0);
   requireInRange("min_link_factor", min_link_factor, 0.0, 20.0);
   requireInRange("coverage_factor", coverage_factor, 0.1, 10.0);
+  requireInRange("region_cover_factor", region_cover_factor, 0.0, 100.0);
 }
 
 namespace {
@@ -34,43 +35,110 @@ cv::Point pointAtArcLength(const SkeletonBranch& b, double s) {
   return b.pixels.back();
 }
 
-// Geodesic distance along the skeleton (8-connected pixel steps) from a set of source pixels,
-// relaxed into `dist` (so repeated calls accumulate the minimum over all sources).
-void relaxSkeletonDistance(const cv::Mat1b& skeleton, const std::vector<cv::Point>& sources,
+// Geodesic distance within a mask (8-connected pixel steps: the skeleton, or the region) from a
+// set of source pixels, relaxed into `dist` (so repeated calls accumulate the minimum over all
+// sources).
+void relaxGeodesicDistance(const cv::Mat1b& mask, const std::vector<cv::Point>& sources,
                            cv::Mat1f* dist) {
   using Item = std::pair<float, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
   for (const auto& p : sources) {
-    if (!skeleton(p.y, p.x)) continue;
+    if (!mask(p.y, p.x)) continue;
     (*dist)(p.y, p.x) = 0.0f;
-    open.emplace(0.0f, p.y * skeleton.cols + p.x);
+    open.emplace(0.0f, p.y * mask.cols + p.x);
   }
   while (!open.empty()) {
     const auto [d, idx] = open.top();
     open.pop();
-    const int x = idx % skeleton.cols, y = idx / skeleton.cols;
+    const int x = idx % mask.cols, y = idx / mask.cols;
     if (d > (*dist)(y, x)) continue;
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
         const int nx = x + dx, ny = y + dy;
-        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= skeleton.cols || ny >= skeleton.rows)
+        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= mask.cols || ny >= mask.rows)
           continue;
-        if (!skeleton(ny, nx)) continue;
+        if (!mask(ny, nx)) continue;
         const float nd = d + ((dx != 0 && dy != 0) ? static_cast<float>(M_SQRT2) : 1.0f);
         if (nd < (*dist)(ny, nx)) {
           (*dist)(ny, nx) = nd;
-          open.emplace(nd, ny * skeleton.cols + nx);
+          open.emplace(nd, ny * mask.cols + nx);
         }
       }
     }
   }
 }
 
+// Appends a guidepoint at region pixel `px`.
+void appendGuidepoint(const TraversableRegion& region, const SketchFrame& frame,
+                      const cv::Point& px, int branch, std::vector<Guidepoint>* out,
+                      std::vector<cv::Point>* out_px) {
+  Guidepoint g;
+  g.id = static_cast<uint32_t>(out->size());
+  g.position_m = frame.pixelCenter(px.x, px.y);
+  g.component = region.components(px.y, px.x);
+  g.branch = branch;
+  out->push_back(g);
+  out_px->push_back(px);
+}
+
+// While some region pixel is farther along the region than `max_dist_px` from every guidepoint,
+// one goes near the farthest: at the most open pixel (farthest from the region's edge) within
+// half that distance of it, so that it stands in the open area it covers, not in its corner.
+void coverRegion(const TraversableRegion& region, double max_dist_px, const SketchFrame& frame,
+                 std::vector<Guidepoint>* out, std::vector<cv::Point>* out_px) {
+  const cv::Mat1b inside = region.components > 0;
+  cv::Mat1f dist(inside.size(), std::numeric_limits<float>::infinity());
+  relaxGeodesicDistance(inside, *out_px, &dist);
+  cv::Mat1f clearance;
+  cv::distanceTransform(inside, clearance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  const int r = static_cast<int>(std::floor(0.5 * max_dist_px));
+  while (true) {
+    double worst = max_dist_px;
+    cv::Point at(-1, -1);
+    for (int y = 0; y < dist.rows; ++y)
+      for (int x = 0; x < dist.cols; ++x) {
+        const float d = dist(y, x);
+        if (std::isfinite(d) && d > worst) {
+          worst = d;
+          at = {x, y};
+        }
+      }
+    if (at.x < 0) break;
+    cv::Point best = at;
+    for (int y = std::max(0, at.y - r); y <= std::min(dist.rows - 1, at.y + r); ++y)
+      for (int x = std::max(0, at.x - r); x <= std::min(dist.cols - 1, at.x + r); ++x)
+        if (inside(y, x) && (x - at.x) * (x - at.x) + (y - at.y) * (y - at.y) <= r * r &&
+            dist(y, x) > 0.5f * static_cast<float>(worst) && clearance(y, x) > clearance(best))
+          best = {x, y};
+    appendGuidepoint(region, frame, best, Guidepoint::kNoBranch, out, out_px);
+    relaxGeodesicDistance(inside, {best}, &dist);
+  }
+}
+
+// The region pixel nearest to `px` within `max_r_px` (the skeleton crosses islands it was
+// allowed to ignore, skeleton_graph.h); (-1, -1) if none.
+cv::Point ontoRegion(const TraversableRegion& region, const cv::Point& px, double max_r_px) {
+  const cv::Mat1i& c = region.components;
+  if (c(px.y, px.x) > 0) return px;
+  const int r = static_cast<int>(std::ceil(max_r_px));
+  cv::Point best(-1, -1);
+  double best_d2 = max_r_px * max_r_px;
+  for (int y = std::max(0, px.y - r); y <= std::min(c.rows - 1, px.y + r); ++y)
+    for (int x = std::max(0, px.x - r); x <= std::min(c.cols - 1, px.x + r); ++x) {
+      const double d2 = static_cast<double>((x - px.x) * (x - px.x) + (y - px.y) * (y - px.y));
+      if (c(y, x) > 0 && d2 <= best_d2 && (best.x < 0 || d2 < best_d2)) {
+        best_d2 = d2;
+        best = {x, y};
+      }
+    }
+  return best;
+}
+
 void coverSkeletonGaps(const cv::Mat1b& skeleton, const TraversableRegion& region,
                        double max_gap_px, double min_separation_px, const SketchFrame& frame,
                        std::vector<Guidepoint>* out, std::vector<cv::Point>* out_px) {
   cv::Mat1f dist(skeleton.size(), std::numeric_limits<float>::infinity());
-  relaxSkeletonDistance(skeleton, *out_px, &dist);
+  relaxGeodesicDistance(skeleton, *out_px, &dist);
   // Skeleton pieces with no guidepoint at all are handled per component below (region seeds);
   // only pixels that some guidepoint reaches, but from too far, are gaps.
   std::vector<cv::Point> pixels;
@@ -86,21 +154,13 @@ void coverSkeletonGaps(const cv::Mat1b& skeleton, const TraversableRegion& regio
       }
     }
     if (at.x < 0) break;
-    const int comp = region.components(at.y, at.x);
-    bool too_close = comp <= 0;
+    const cv::Point on = ontoRegion(region, at, min_separation_px);
+    bool too_close = on.x < 0;
     for (const auto& q : *out_px)
-      too_close = too_close || std::hypot(q.x - at.x, q.y - at.y) < min_separation_px;
-    if (!too_close) {
-      Guidepoint g;
-      g.id = static_cast<uint32_t>(out->size());
-      g.position_m = frame.pixelCenter(at.x, at.y);
-      g.component = comp;
-      g.branch = Guidepoint::kNoBranch;
-      out->push_back(g);
-      out_px->push_back(at);
-    }
+      too_close = too_close || std::hypot(q.x - on.x, q.y - on.y) < min_separation_px;
+    if (!too_close) appendGuidepoint(region, frame, on, Guidepoint::kNoBranch, out, out_px);
     // Either way this pixel is settled: it now has a guidepoint at or near it.
-    relaxSkeletonDistance(skeleton, {at}, &dist);
+    relaxGeodesicDistance(skeleton, {at}, &dist);
   }
 }
 
@@ -115,20 +175,15 @@ std::vector<Guidepoint> sampleGuidepoints(const SkeletonGraph& skeleton,
   std::vector<Guidepoint> out;
   std::vector<cv::Point> out_px;
 
-  auto add = [&](const cv::Point& px, int branch) {
-    const int comp = region.components(px.y, px.x);
-    if (comp <= 0) return;  // skeleton pixel outside the kept region (a dropped speck)
+  auto add = [&](const cv::Point& skeleton_px, int branch) {
+    // Off the region: a filled island (moved beside it) or a dropped speck (skipped).
+    const cv::Point px = ontoRegion(region, skeleton_px, 0.5 * range_px);
+    if (px.x < 0) return;
     // Two branches meeting at a short junction can propose nearly the same place.
     for (const auto& q : out_px) {
       if (std::hypot(q.x - px.x, q.y - px.y) < 0.5 * range_px) return;
     }
-    Guidepoint g;
-    g.id = static_cast<uint32_t>(out.size());
-    g.position_m = frame.pixelCenter(px.x, px.y);
-    g.component = comp;
-    g.branch = branch;
-    out.push_back(g);
-    out_px.push_back(px);
+    appendGuidepoint(region, frame, px, branch, &out, &out_px);
   };
 
   // Longest branches first, so that the de-duplication keeps points on the main corridors.
@@ -176,14 +231,11 @@ std::vector<Guidepoint> sampleGuidepoints(const SkeletonGraph& skeleton,
     cv::distanceTransform(m, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
     cv::Point best;
     cv::minMaxLoc(dist, nullptr, nullptr, nullptr, &best);
-    Guidepoint g;
-    g.id = static_cast<uint32_t>(out.size());
-    g.position_m = frame.pixelCenter(best.x, best.y);
-    g.component = comp;
-    g.branch = Guidepoint::kNoBranch;
-    out.push_back(g);
-    out_px.push_back(best);
+    appendGuidepoint(region, frame, best, Guidepoint::kNoBranch, &out, &out_px);
   }
+
+  if (config.region_cover_factor > 0.0)
+    coverRegion(region, config.region_cover_factor * interval_px, frame, &out, &out_px);
   return out;
 }
 

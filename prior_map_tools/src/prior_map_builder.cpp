@@ -18,9 +18,10 @@ void PriorMapConfig::validate() const {
 namespace {
 
 // Points every `spacing_px` along each skeleton branch: they sit on the medial axis, so they
-// thread the roadmap through every door and narrow passage.
-std::vector<Eigen::Vector2d> skeletonSeeds(const SkeletonGraph& g, const SketchFrame& frame,
-                                           double spacing_px) {
+// thread the roadmap through every door and narrow passage. Those on a filled island (the
+// skeleton crosses small ones, skeleton_graph.h) are left out.
+std::vector<Eigen::Vector2d> skeletonSeeds(const SkeletonGraph& g, const cv::Mat1b& region,
+                                           const SketchFrame& frame, double spacing_px) {
   std::vector<Eigen::Vector2d> out;
   for (const auto& b : g.branches) {
     double since = spacing_px;  // emit the first pixel
@@ -30,7 +31,8 @@ std::vector<Eigen::Vector2d> skeletonSeeds(const SkeletonGraph& g, const SketchF
         since += (p.x != q.x && p.y != q.y) ? M_SQRT2 : 1.0;
       }
       if (since >= spacing_px || i + 1 == b.pixels.size()) {
-        out.push_back(frame.pixelCenter(b.pixels[i].x, b.pixels[i].y));
+        const cv::Point& p = b.pixels[i];
+        if (region(p.y, p.x)) out.push_back(frame.pixelCenter(p.x, p.y));
         since = 0.0;
       }
     }
@@ -63,7 +65,7 @@ PriorBundle buildPriorBundle(const LoadedSketch& sketch, const PriorMapConfig& c
 
   std::vector<Eigen::Vector2d> seeds;
   for (const auto& g : b.guidepoints) seeds.push_back(g.position_m);
-  const auto along = skeletonSeeds(skeleton, sketch.frame,
+  const auto along = skeletonSeeds(skeleton, region.mask, sketch.frame,
                                    0.5 * config.prm.node_spacing_m / sketch.frame.m_per_px);
   seeds.insert(seeds.end(), along.begin(), along.end());
   b.prm = buildPrm(region.mask, sketch.frame, config.prm, seeds);

@@ -13,6 +13,27 @@ namespace efs::prior_map {
 void SkeletonConfig::validate() const {
   requireInRange("spur_prune_length_m", spur_prune_length_m, 0.0, 1000.0);
   requireInRange("prune_iterations", prune_iterations, 0, 100);
+  requireInRange("max_island_extent_m", max_island_extent_m, 0.0, 1000.0);
+}
+
+cv::Mat1b fillSmallIslands(const cv::Mat1b& region, double max_extent_px) {
+  cv::Mat1b out = region.clone();
+  if (region.empty() || max_extent_px <= 0.0) return out;
+  cv::Mat1i labels;
+  cv::Mat stats, centroids;
+  const cv::Mat1b outside = (region == 0);
+  const int n = cv::connectedComponentsWithStats(outside, labels, stats, centroids, 4, CV_32S);
+  std::vector<uint8_t> fill(static_cast<size_t>(n), 0);
+  for (int i = 1; i < n; ++i) {
+    const int x = stats.at<int>(i, cv::CC_STAT_LEFT), y = stats.at<int>(i, cv::CC_STAT_TOP);
+    const int w = stats.at<int>(i, cv::CC_STAT_WIDTH), h = stats.at<int>(i, cv::CC_STAT_HEIGHT);
+    const bool touches_border = x == 0 || y == 0 || x + w == region.cols || y + h == region.rows;
+    fill[static_cast<size_t>(i)] = !touches_border && w <= max_extent_px && h <= max_extent_px;
+  }
+  for (int y = 0; y < region.rows; ++y)
+    for (int x = 0; x < region.cols; ++x)
+      if (fill[static_cast<size_t>(labels(y, x))]) out(y, x) = 255;
+  return out;
 }
 
 double SkeletonGraph::totalLengthPx() const {
@@ -169,15 +190,16 @@ SkeletonGraph buildSkeletonGraph(const cv::Mat1b& skeleton_mask) {
 SkeletonGraph extractSkeleton(const cv::Mat1b& region, double m_per_px,
                               const SkeletonConfig& config) {
   config.validate();
+  const cv::Mat1b filled = fillSmallIslands(region, config.max_island_extent_m / m_per_px);
   cv::Mat1b skeleton = cv::Mat1b::zeros(region.size());
-  const cv::Rect roi = cv::boundingRect(region);
+  const cv::Rect roi = cv::boundingRect(filled);
   if (roi.area() > 0) {
     // Thinning only inside the region's bounding box (plus a margin): much faster on sketches
     // that are mostly blank paper.
     const cv::Rect padded =
         (roi + cv::Size(4, 4) - cv::Point(2, 2)) & cv::Rect(0, 0, region.cols, region.rows);
     cv::Mat1b thin;
-    cv::ximgproc::thinning(region(padded), thin, cv::ximgproc::THINNING_ZHANGSUEN);
+    cv::ximgproc::thinning(filled(padded), thin, cv::ximgproc::THINNING_ZHANGSUEN);
     thin.copyTo(skeleton(padded));
   }
   const double spur_px = config.spur_prune_length_m / m_per_px;

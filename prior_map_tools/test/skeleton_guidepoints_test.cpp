@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
+#include "efs_common/config_check.h"
 #include "efs_common/testing/paths.h"
 #include "prior_map_tools/guidepoints.h"
 #include "prior_map_tools/skeleton_graph.h"
@@ -62,6 +64,115 @@ TEST(Skeleton, ShortSpursArePruned) {
   EXPECT_GT(raw.skeleton.branches.size(), pruned.skeleton.branches.size());
   ASSERT_EQ(pruned.skeleton.branches.size(), 1u);
   EXPECT_GT(pruned.skeleton.branches[0].length_px, 200.0);
+}
+
+// A walled hall of 60 x 40 m at 0.1 m/px, with square pillars of `pillar_px` every 75 px
+// (7.5 m) in rows 100 px apart, one of them on the hall's medial axis (y = 210).
+cv::Mat1b drawHallWithPillars(int pillar_px) {
+  cv::Mat1b img(420, 620, uint8_t(255));
+  cv::rectangle(img, cv::Rect(10, 10, 600, 400), cv::Scalar(0), 2);
+  if (pillar_px > 0)
+    for (int y = 110; y <= 310; y += 100)
+      for (int x = 85; x <= 535; x += 75)
+        cv::rectangle(img, cv::Rect(x - pillar_px / 2, y - pillar_px / 2, pillar_px, pillar_px),
+                      cv::Scalar(0), cv::FILLED);
+  return img;
+}
+
+// Pixel of the sketch frame position `p_m`.
+cv::Point pixelOf(const SketchFrame& frame, const Eigen::Vector2d& p_m) {
+  const Eigen::Vector2d px = frame.toPixel(p_m);
+  return {static_cast<int>(std::floor(px.x())), static_cast<int>(std::floor(px.y()))};
+}
+
+TEST(Skeleton, IslandsAreFilledOnlyWhenSmallAndEnclosed) {
+  cv::Mat1b region(100, 200, uint8_t(255));
+  region(cv::Rect(20, 20, 10, 10)).setTo(0);  // 10 px island: filled at 10 px
+  region(cv::Rect(60, 20, 11, 10)).setTo(0);  // 11 px wide: kept
+  region(cv::Rect(100, 0, 5, 5)).setTo(0);    // small, but touches the border: kept
+  region(cv::Rect(150, 50, 3, 30)).setTo(0);  // a thin wall 30 px long: kept
+  const cv::Mat1b filled = fillSmallIslands(region, 10.0);
+  EXPECT_EQ(cv::countNonZero(filled(cv::Rect(20, 20, 10, 10))), 100);
+  EXPECT_EQ(cv::countNonZero(filled(cv::Rect(60, 20, 11, 10))), 0);
+  EXPECT_EQ(cv::countNonZero(filled(cv::Rect(100, 0, 5, 5))), 0);
+  EXPECT_EQ(cv::countNonZero(filled(cv::Rect(150, 50, 3, 30))), 0);
+  EXPECT_EQ(cv::countNonZero(filled), cv::countNonZero(region) + 100);
+  // Off: the region unchanged.
+  EXPECT_EQ(cv::countNonZero(fillSmallIslands(region, 0.0) != region), 0);
+  SkeletonConfig absurd;
+  absurd.max_island_extent_m = -1.0;
+  EXPECT_THROW(absurd.validate(), ConfigError);
+}
+
+TEST(Skeleton, PillarsOfAHallMakeNoTopology) {
+  const Pipeline bare = run(drawHallWithPillars(0), 0.1);
+  const Pipeline pillars = run(drawHallWithPillars(6), 0.1);  // 0.6 m pillars
+  SkeletonConfig off;
+  off.max_island_extent_m = 0.0;
+  const Pipeline meshed = run(drawHallWithPillars(6), 0.1, off);
+  // Filled, the pillars leave the hall's skeleton as it is without them; unfilled, every pillar
+  // is ringed by branches.
+  EXPECT_EQ(pillars.skeleton.branches.size(), bare.skeleton.branches.size());
+  EXPECT_GT(meshed.skeleton.branches.size(), 4 * bare.skeleton.branches.size());
+  GuidepointConfig gc;
+  gc.mapping_range_m = 5.0;
+  const auto few = sampleGuidepoints(pillars.skeleton, pillars.region, pillars.sketch.frame, gc);
+  const auto many = sampleGuidepoints(meshed.skeleton, meshed.region, meshed.sketch.frame, gc);
+  EXPECT_LT(2 * few.size(), many.size());
+  ASSERT_FALSE(few.empty());
+  // The skeleton runs over the filled pillar on the medial axis; its guidepoints do not.
+  for (const auto& g : few) {
+    const cv::Point px = pixelOf(pillars.sketch.frame, g.position_m);
+    EXPECT_GT(pillars.region.components(px.y, px.x), 0) << "a guidepoint on a pillar at " << px;
+  }
+}
+
+TEST(Skeleton, ALargeIslandKeepsItsLoop) {
+  cv::Mat1b img = drawHallWithPillars(0);
+  cv::rectangle(img, cv::Rect(260, 170, 100, 80), cv::Scalar(0), cv::FILLED);  // 10 x 8 m block
+  const Pipeline p = run(img, 0.1);
+  // The skeleton passes the block on both sides (above and below its middle column).
+  int above = 0, below = 0;
+  for (int y = 0; y < p.skeleton.mask.rows; ++y) {
+    above += p.skeleton.mask(y, 310) && y < 170;
+    below += p.skeleton.mask(y, 310) && y >= 250;
+  }
+  EXPECT_GT(above, 0);
+  EXPECT_GT(below, 0);
+}
+
+// The farthest region pixel (sampled every 5 px) from its nearest guidepoint [m].
+double farthestFromGuidepoints(const Pipeline& p, const std::vector<Guidepoint>& gps) {
+  double worst = 0.0;
+  for (int y = 0; y < p.region.mask.rows; y += 5)
+    for (int x = 0; x < p.region.mask.cols; x += 5) {
+      if (!p.region.mask(y, x)) continue;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const auto& g : gps)
+        nearest = std::min(nearest, (g.position_m - p.sketch.frame.pixelCenter(x, y)).norm());
+      worst = std::max(worst, nearest);
+    }
+  return worst;
+}
+
+TEST(Guidepoints, AnOpenHallIsCoveredNotOnlyAlongItsSkeleton) {
+  const Pipeline p = run(drawHallWithPillars(0), 0.1);  // 60 x 40 m
+  GuidepointConfig gc;
+  gc.mapping_range_m = 5.0;  // interval 15 m
+  const auto covered = sampleGuidepoints(p.skeleton, p.region, p.sketch.frame, gc);
+  EXPECT_LE(farthestFromGuidepoints(p, covered), gc.region_cover_factor * gc.intervalM());
+  for (const auto& g : covered) {
+    const cv::Point px = pixelOf(p.sketch.frame, g.position_m);
+    EXPECT_GT(p.region.components(px.y, px.x), 0);
+  }
+  // Along the medial axis alone the hall's corners are farther than that.
+  gc.region_cover_factor = 0.0;
+  const auto skeleton_only = sampleGuidepoints(p.skeleton, p.region, p.sketch.frame, gc);
+  EXPECT_LT(skeleton_only.size(), covered.size());
+  EXPECT_GT(farthestFromGuidepoints(p, skeleton_only),
+            GuidepointConfig{}.region_cover_factor * gc.intervalM());
+  gc.region_cover_factor = -1.0;
+  EXPECT_THROW(gc.validate(), ConfigError);
 }
 
 TEST(Guidepoints, LongCorridorIsSampledAtTheInterval) {

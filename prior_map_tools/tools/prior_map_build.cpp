@@ -33,7 +33,11 @@ sketch: a drawing (PNG/JPG/PGM, grey, colour or alpha) or a map_server YAML occu
   --min-enclosed-span F  an enclosed area spanning less than this      (default 0.5)
                          fraction of the strokes is a closet in an open outline
   --spur-length M        skeleton spurs shorter than this are pruned  (default 2.0)
+  --max-island M         islands (pillars) this small are filled for  (default 4.0)
+                         the skeleton; 0 = off
   --interval-factor F    guidepoint spacing / mapping range           (default 3.0)
+  --region-cover F       no place farther than F x the spacing from a (default 0.75)
+                         guidepoint (open halls); 0 = skeleton only
   --prm-spacing M        mean PRM node spacing                        (default 1.5)
   --prm-k N              PRM neighbours per node                      (default 10)
   --seed N               PRM sampling seed                            (default 1)
@@ -48,7 +52,7 @@ int main(int argc, char** argv) {
         argc, argv,
         {"sketch", "scale-guess", "mapping-range", "out", "overlay", "summary", "kind",
          "robot-radius", "max-outer-gap", "min-region-area", "min-enclosed-span", "spur-length",
-         "interval-factor", "prm-spacing", "prm-k", "seed"},
+         "max-island", "region-cover", "interval-factor", "prm-spacing", "prm-k", "seed"},
         {"help"});
     if (args.flag("help") || argc == 1) {
       std::cout << kUsage;
@@ -79,8 +83,12 @@ int main(int argc, char** argv) {
         args.number("min-enclosed-span", config.traversable.min_enclosed_span_fraction);
     config.skeleton.spur_prune_length_m =
         args.number("spur-length", config.skeleton.spur_prune_length_m);
+    config.skeleton.max_island_extent_m =
+        args.number("max-island", config.skeleton.max_island_extent_m);
     config.guidepoints.interval_factor =
         args.number("interval-factor", config.guidepoints.interval_factor);
+    config.guidepoints.region_cover_factor =
+        args.number("region-cover", config.guidepoints.region_cover_factor);
     config.prm.node_spacing_m = args.number("prm-spacing", config.prm.node_spacing_m);
     config.prm.k_neighbours = static_cast<int>(args.integer("prm-k", config.prm.k_neighbours));
     config.prm.seed = static_cast<uint64_t>(args.integer("seed", 1));

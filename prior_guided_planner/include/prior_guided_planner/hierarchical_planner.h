@@ -30,10 +30,12 @@ struct HierarchicalPlannerConfig {
   GreedyPriorConfig greedy;
   /// Hypotheses with a confidence below this are not used (and reported as rejected).
   double min_confidence = 0.0;
-  /// Path lengths between viewpoints of the prior-free tour (and fallback) are searched among
-  /// this many viewpoints, the nearest by L(X_r, V): it bounds the O(N^2) searches. An edge with
-  /// a farther viewpoint is estimated (priorFreeEdgeEstimate_m) instead of left out.
-  int prior_free_searched_viewpoints = 40;
+  /// Path lengths between the viewpoints of a tour (prior-free, and the FE-TSP's isolated and
+  /// target viewpoints) are searched among this many of them, the nearest by L(X_r, V): it
+  /// bounds the O(N^2) searches. An edge with a farther viewpoint is estimated
+  /// (tourEdgeEstimate_m) instead of left out. Unbounded, a paper-size garage's FE-TSP over a
+  /// few hundred viewpoints (sparse guidepoints, large groups) spent half the process in them.
+  int tour_searched_viewpoints = 40;
   /// The prior-free tour covers at most this many viewpoints, the nearest by L(X_r, V): it
   /// bounds the ATSP. Beyond it, what the tour cannot see may bias its direction (see
   /// priorFreeTour in hierarchical_planner.cpp).
@@ -86,13 +88,13 @@ struct PlanningResult {
   GreedyPriorScores greedy;
 };
 
-/// An estimate of L(a, b) for prior-free tour edges that are not searched: the larger of two
+/// An estimate of L(a, b) for tour edges that are not searched: the larger of two
 /// lower bounds, the straight distance and the triangle inequality through the robot,
 /// |L(X_r, a) - L(X_r, b)|. The second is exact between points of one passage leading away from
 /// the robot, which is where a cave's far viewpoints lie; it is what makes the tour's first
 /// step weigh the work beyond the searched ones.
-double priorFreeEdgeEstimate_m(const Eigen::Vector3d& a_world_m, double robot_to_a_m,
-                               const Eigen::Vector3d& b_world_m, double robot_to_b_m);
+double tourEdgeEstimate_m(const Eigen::Vector3d& a_world_m, double robot_to_a_m,
+                          const Eigen::Vector3d& b_world_m, double robot_to_b_m);
 
 class HierarchicalPlanner {
  public:
@@ -107,6 +109,10 @@ class HierarchicalPlanner {
 
  private:
   LocalTour priorFreeTour(const PlanningInput& in, const std::vector<double>& robot_len) const;
+  /// in.path_length_m searched only between the tour_searched_viewpoints of `members` nearest
+  /// to the robot (and from the robot); tourEdgeEstimate_m for every other pair.
+  PathLengthFn boundedLengths(const PlanningInput& in, const std::vector<double>& robot_len,
+                              std::vector<int> members) const;
 
   HierarchicalPlannerConfig config_;
   /// Kept between plans so that its rollout workers are too.

@@ -100,7 +100,7 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("rho_m", e.planner.attachment.rho_m);
   p.get("influence_radius_m", e.planner.attachment.influence_radius_m);
   p.get("min_confidence", e.planner.min_confidence);
-  p.get("prior_free_searched_viewpoints", e.planner.prior_free_searched_viewpoints);
+  p.get("tour_searched_viewpoints", e.planner.tour_searched_viewpoints);
   p.get("prior_free_max_viewpoints", e.planner.prior_free_max_viewpoints);
   p.get("v_max_mps", e.planner.fe_tsp.v_max_mps);
   p.get("omega_max_radps", e.planner.fe_tsp.omega_max_radps);

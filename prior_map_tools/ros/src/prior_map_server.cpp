@@ -38,11 +38,13 @@ PriorMapServerConfig loadPriorMapServerConfig(const ros::NodeHandle& private_nh)
   p.get("wall_threshold", b.load.wall_threshold);
   p.get("mapping_range_m", b.guidepoints.mapping_range_m);
   p.get("guidepoint_interval_factor", b.guidepoints.interval_factor);
+  p.get("guidepoint_region_cover_factor", b.guidepoints.region_cover_factor);
   p.get("robot_radius_m", b.traversable.robot_radius_m);
   p.get("max_outer_gap_m", b.traversable.max_outer_gap_m);
   p.get("min_region_area_m2", b.traversable.min_region_area_m2);
   p.get("min_enclosed_span_fraction", b.traversable.min_enclosed_span_fraction);
   p.get("spur_prune_length_m", b.skeleton.spur_prune_length_m);
+  p.get("max_island_extent_m", b.skeleton.max_island_extent_m);
   p.get("prm_node_spacing_m", b.prm.node_spacing_m);
   p.get("prm_k_neighbours", b.prm.k_neighbours);
   int seed = static_cast<int>(b.prm.seed);
