@@ -24,6 +24,16 @@ LocalGridConfig smallGrid(double inflation = 0.0) {
   return c;
 }
 
+/// Every key of g's window.
+std::vector<VoxelKey> windowKeys(const LocalGrid& g) {
+  const VoxelKey lo = g.minKey(), hi = g.maxKey();
+  std::vector<VoxelKey> keys;
+  for (int x = lo.x; x <= hi.x; ++x)
+    for (int y = lo.y; y <= hi.y; ++y)
+      for (int z = lo.z; z <= hi.z; ++z) keys.push_back({x, y, z});
+  return keys;
+}
+
 TEST(LocalGrid, RayCastingSeparatesFreeUnknownAndOccupied) {
   LocalGridConfig cfg = smallGrid(0.2);
   cfg.size_z_m = 2.0;
@@ -224,17 +234,13 @@ int layersDifferingFromAFreshGrid(const LocalGrid& g, const LocalGridConfig& cfg
   std::vector<Eigen::Vector3d> occ;
   g.occupiedCentersInBox(g.windowMin(), g.windowMax(), occ);
   for (const auto& p : occ) fresh.setOccupied(p);
-  const VoxelKey lo = g.minKey(), hi = g.maxKey();
   int differ = 0;
   *inflated = 0;
-  for (int x = lo.x; x <= hi.x; ++x)
-    for (int y = lo.y; y <= hi.y; ++y)
-      for (int z = lo.z; z <= hi.z; ++z) {
-        const VoxelKey k{x, y, z};
-        differ += g.isInflated(k) != fresh.isInflated(k) ||
-                  g.isBlocked(k, true, 0.36) != fresh.isBlocked(k, true, 0.36);
-        *inflated += g.isInflated(k);
-      }
+  for (const VoxelKey& k : windowKeys(g)) {
+    differ += g.isInflated(k) != fresh.isInflated(k) ||
+              g.isBlocked(k, true, 0.36) != fresh.isBlocked(k, true, 0.36);
+    *inflated += g.isInflated(k);
+  }
   return differ;
 }
 
@@ -317,20 +323,16 @@ TEST(LocalGrid, InflationLayersMatchBruteForceAfterUpdatesAndMoves) {
     std::vector<Eigen::Vector3d> occ;
     g.occupiedCentersInBox(g.windowMin(), g.windowMax(), occ);
     ASSERT_FALSE(occ.empty());
-    const VoxelKey lo = g.minKey(), hi = g.maxKey();
     int inflated = 0, narrow_open = 0;
-    for (int x = lo.x; x <= hi.x; ++x)
-      for (int y = lo.y; y <= hi.y; ++y)
-        for (int z = lo.z; z <= hi.z; ++z) {
-          const VoxelKey k{x, y, z};
-          double d2 = std::numeric_limits<double>::infinity();
-          for (const auto& o : occ) d2 = std::min(d2, (o - g.center(k)).squaredNorm());
-          const bool full = d2 <= 0.45 * 0.45 + 1e-9, narrow = d2 <= 0.36 * 0.36 + 1e-9;
-          ASSERT_EQ(g.isInflated(k), full) << x << " " << y << " " << z;
-          ASSERT_EQ(g.isBlocked(k, true, 0.36), narrow) << x << " " << y << " " << z;
-          inflated += full;
-          narrow_open += full && !narrow;
-        }
+    for (const VoxelKey& k : windowKeys(g)) {
+      double d2 = std::numeric_limits<double>::infinity();
+      for (const auto& o : occ) d2 = std::min(d2, (o - g.center(k)).squaredNorm());
+      const bool full = d2 <= 0.45 * 0.45 + 1e-9, narrow = d2 <= 0.36 * 0.36 + 1e-9;
+      ASSERT_EQ(g.isInflated(k), full) << k.x << " " << k.y << " " << k.z;
+      ASSERT_EQ(g.isBlocked(k, true, 0.36), narrow) << k.x << " " << k.y << " " << k.z;
+      inflated += full;
+      narrow_open += full && !narrow;
+    }
     EXPECT_GT(inflated, 0);
     EXPECT_GT(narrow_open, 0);
     ++checked_moves;
@@ -368,11 +370,8 @@ TEST(LocalGrid, InflationCarriedAcrossMovesEqualsAFreshGrid) {
   std::vector<Eigen::Vector3d> occ;
   g.occupiedCentersInBox(g.windowMin(), g.windowMax(), occ);
   for (const auto& p : occ) g.setFree(p);
-  const VoxelKey lo = g.minKey(), hi = g.maxKey();
-  for (int x = lo.x; x <= hi.x; ++x)
-    for (int y = lo.y; y <= hi.y; ++y)
-      for (int z = lo.z; z <= hi.z; ++z)
-        ASSERT_FALSE(g.isInflated({x, y, z})) << x << " " << y << " " << z;
+  for (const VoxelKey& k : windowKeys(g))
+    ASSERT_FALSE(g.isInflated(k)) << k.x << " " << k.y << " " << k.z;
 }
 
 // Rays are cut to the window: a small window sees exactly the cells a large one sees inside it,
@@ -395,15 +394,11 @@ TEST(LocalGrid, SmallWindowAgreesWithALargeOneInsideIt) {
     }
     a.insertScan(sensor, scan);
     b.insertScan(sensor, scan);
-    const VoxelKey lo = a.minKey(), hi = a.maxKey();
     int observed = 0;
-    for (int x = lo.x; x <= hi.x; ++x)
-      for (int y = lo.y; y <= hi.y; ++y)
-        for (int z = lo.z; z <= hi.z; ++z) {
-          const VoxelKey k{x, y, z};
-          ASSERT_EQ(a.state(k), b.state(k)) << x << " " << y << " " << z;
-          observed += a.state(k) != CellState::kUnknown;
-        }
+    for (const VoxelKey& k : windowKeys(a)) {
+      ASSERT_EQ(a.state(k), b.state(k)) << k.x << " " << k.y << " " << k.z;
+      observed += a.state(k) != CellState::kUnknown;
+    }
     EXPECT_GT(observed, 100);
   }
 }
