@@ -31,6 +31,7 @@ void ExplorationManagerConfig::validate() const {
   requireInRange("unreachable_attempts", unreachable_attempts, 1, 1000);
   requireInRange("fine_path_resolution_factor", fine_path_resolution_factor, 1, 8);
   requireInRange("unreachable_near_m", unreachable_near_m, 0.0, 1e3);
+  requireInRange("looked_at_fraction", looked_at_fraction, 0.01, 1.0);
   requireInRange("max_goal_distance_m", max_goal_distance_m, 1.0, 1e4);
   requireInRange("max_goal_climb_m", max_goal_climb_m, 0.5, 1e4);
   requireInRange("tour_lookahead_m", tour_lookahead_m, 0.0, 1e4);
@@ -232,6 +233,10 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   std::set<int> alive;
   int set_aside = 0;
   int given_up = 0;
+  int looked_at = 0;
+  for (auto it = looked_at_cells_.begin(); it != looked_at_cells_.end();)
+    it = observation_.isFrontier(*it) ? std::next(it) : looked_at_cells_.erase(it);
+  std::map<int, bool> cluster_looked_at;
   // Alive, not reached, not set aside, not given up: a candidate.
   const auto candidate = [&](int id, const std::set<int>& reached) {
     alive.insert(id);
@@ -250,9 +255,15 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
     vps.clear();
     vp_cluster.clear();
     alive.clear();
-    set_aside = given_up = 0;
+    set_aside = given_up = looked_at = 0;
     for (const Viewpoint& v : viewpoint_manager_.all()) {
       if (!candidate(v.id, reached_viewpoint_ids_)) continue;
+      const auto memo = cluster_looked_at.try_emplace(v.cluster_id, false);
+      if (memo.second) memo.first->second = lookedAt(v.cluster_id);
+      if (memo.first->second) {
+        ++looked_at;
+        continue;
+      }
       vps.push_back({v.id, v.position_world_m, v.yaw_rad});
       vp_cluster.push_back(v.cluster_id);
     }
@@ -346,6 +357,9 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
     case PlanningStatus::kNoViewpoints:
       target_.state = ExplorationState::kFinished;
       plan_message_ = "no viewpoint remains: exploration finished";
+      if (looked_at > 0)
+        plan_message_ += " (" + std::to_string(looked_at) +
+                         " left whose frontier was looked at from a reached viewpoint)";
       if (given_up > 0)
         plan_message_ += " (" + std::to_string(given_up) +
                          " left unvisited, given up as unreachable after " +
@@ -427,6 +441,8 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
     os << ", " << plan.tour.unreachable_viewpoints.size() << " unreachable";
   if (set_aside > 0) os << ", " << set_aside << " set aside (unreachable)";
   if (given_up > 0) os << ", " << given_up << " given up";
+  if (looked_at > 0)
+    os << ", " << looked_at << " left (their frontier looked at from a reached one)";
   os << retry_note;
   plan_message_ = os.str();
   const double length = robot_len_[first];
@@ -449,7 +465,29 @@ bool ExplorationManager::checkProgress(double time_s) {
 }
 
 void ExplorationManager::markReached(int id) {
-  (opening_look_at_.count(id) ? reached_opening_ids_ : reached_viewpoint_ids_).insert(id);
+  if (opening_look_at_.count(id)) {
+    reached_opening_ids_.insert(id);
+    return;
+  }
+  reached_viewpoint_ids_.insert(id);
+  for (const auto& [cluster_id, vps] : viewpoint_manager_.byCluster()) {
+    for (const Viewpoint& v : vps) {
+      if (v.id != id) continue;
+      const auto c = clusters_.clusters().find(cluster_id);
+      if (c != clusters_.clusters().end())
+        looked_at_cells_.insert(c->second.cells.begin(), c->second.cells.end());
+      return;
+    }
+  }
+}
+
+bool ExplorationManager::lookedAt(int cluster_id) const {
+  if (!config_.skip_looked_at_clusters || looked_at_cells_.empty()) return false;
+  const auto c = clusters_.clusters().find(cluster_id);
+  if (c == clusters_.clusters().end() || c->second.cells.empty()) return false;
+  size_t n = 0;
+  for (const VoxelKey& k : c->second.cells) n += looked_at_cells_.count(k);
+  return static_cast<double>(n) >= config_.looked_at_fraction * c->second.cells.size();
 }
 
 void ExplorationManager::setAside(int id, double time_s) {

@@ -105,6 +105,50 @@ TEST(ExplorationManager, NoReplanBeforeThePeriodUnlessTheTargetIsReached) {
   }
 }
 
+// Standing at a viewpoint without the scans clearing its frontier: the other viewpoints of that
+// cluster (and its re-samples) are not the next target, unless skip_looked_at_clusters is off.
+TEST(ExplorationManager, AReachedViewpointsClusterIsNotTargetedAgain) {
+  ExplorationManagerConfig c;
+  c.tour_lookahead_m = 0.0;  // the goal is the viewpoint, look_at its cluster's centroid
+  c.observation.facing_min_cosine = testing::kStrictFacingMinCosine;
+  ExplorationManagerConfig off = c;
+  off.skip_looked_at_clusters = false;
+  // The targets after standing (unscanned) at each of the first `steps` targets in turn.
+  const auto lookAts = [](const ExplorationManagerConfig& config, int steps,
+                          std::string* last_message) {
+    ExplorationManager m(config, std::nullopt);
+    scanCorridor(m);
+    std::vector<Eigen::Vector3d> out;
+    double time = 0.0;
+    m.update(time, at(corridorStart()));
+    for (int i = 0; i < steps && m.target().has_goal; ++i) {
+      out.push_back(m.target().look_at_world_m);
+      time += 0.1;
+      m.update(time, at(m.target().viewpoint_world_m));
+      *last_message = m.target().message;
+    }
+    return out;
+  };
+  std::string message_on, message_off;
+  const std::vector<Eigen::Vector3d> on = lookAts(c, 40, &message_on);
+  const std::vector<Eigen::Vector3d> without = lookAts(off, 40, &message_off);
+  // Without the rule the vehicle comes back to a cluster it stood at (its second viewpoint).
+  const auto revisits = [](const std::vector<Eigen::Vector3d>& look_ats) {
+    int n = 0;
+    for (size_t i = 1; i < look_ats.size(); ++i)
+      for (size_t j = 0; j < i; ++j)
+        if ((look_ats[i] - look_ats[j]).norm() < 1e-6) {
+          ++n;
+          break;
+        }
+    return n;
+  };
+  ASSERT_GT(revisits(without), 0) << "the scene needs clusters with two viewpoints";
+  EXPECT_EQ(revisits(on), 0);
+  EXPECT_LT(on.size(), without.size());
+  EXPECT_NE(message_on.find("looked at from a reached viewpoint"), std::string::npos) << message_on;
+}
+
 // A robot that makes no progress toward its target (the local planner found no way there):
 // the target is set aside and the next one gets its turn. When none is left, what was set aside
 // is tried again at once instead of hovering through the retry time, and a viewpoint that has
@@ -558,6 +602,12 @@ TEST(ExplorationManager, ConfigErrorsNameTheKey) {
   c = {};
   c.unreachable_near_m = std::nan("");
   expectKey(c, "unreachable_near_m");
+  c = {};
+  c.looked_at_fraction = 0.0;
+  expectKey(c, "looked_at_fraction");
+  c = {};
+  c.looked_at_fraction = std::nan("");
+  expectKey(c, "looked_at_fraction");
   c = {};
   c.bounds_world_m = Eigen::AlignedBox3d(Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(0, 0, 0));
   expectKey(c, "bounds_world_m");

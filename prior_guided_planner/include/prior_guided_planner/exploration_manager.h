@@ -10,16 +10,16 @@
 // Replanning happens when no plan exists yet, `replan_period_s` has elapsed, the target was
 // reached (within `target_reached_m`), the target viewpoint disappeared (its frontier was
 // observed), or new hypotheses arrived. A reached viewpoint is not planned for again (its id is
-// remembered; a re-sampled cluster gets new ids), so the robot never circles one viewpoint whose
-// frontier the scans cannot clear. A far target is handed on in stages along its searched path
-// (max_goal_distance_m), the next stage planned once the robot is half-way to the current one.
-// kFinished when no viewpoint remains, or when the only ones left were given up: a viewpoint set
-// aside unreachable_attempts times (no progress toward it, the local planner found no way, the
-// path search found none) is not planned for again. Set-aside viewpoints come back after
-// unreachable_retry_s, or at once when nothing else is left, so a flight never hovers for ever
-// in front of viewpoints it cannot reach (seen: the ROS planner retrying five viewpoints every
-// minute until the test's time ran out). kStuck is transient: it says the planner found nothing
-// to send this cycle and will look again on the next update.
+// remembered), nor is a cluster mostly made of the cells its cluster had (a re-sampled cluster
+// gets new ids), so the robot never circles a frontier the scans cannot clear. A far target is
+// handed on in stages along its searched path (max_goal_distance_m), the next stage planned once
+// the robot is half-way to the current one. kFinished when no viewpoint remains, or when the only
+// ones left were given up: a viewpoint set aside unreachable_attempts times (no progress toward it,
+// the local planner found no way, the path search found none) is not planned for again. Set-aside
+// viewpoints come back after unreachable_retry_s, or at once when nothing else is left, so a flight
+// never hovers for ever in front of viewpoints it cannot reach (seen: the ROS planner retrying five
+// viewpoints every minute until the test's time ran out). kStuck is transient: it says the planner
+// found nothing to send this cycle and will look again on the next update.
 #pragma once
 
 #include <Eigen/Core>
@@ -29,6 +29,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 #include "prior_guided_planner/frontier_clusters.h"
@@ -108,6 +109,15 @@ struct ExplorationManagerConfig {
   /// (the local planner does not descend through unknown space); set aside and retried 60 s
   /// later, one drew the guided flight 80 m back. 0: always set aside.
   double unreachable_near_m = 4.0;
+  /// A frontier cluster at least looked_at_fraction of whose cells belonged to the cluster of a
+  /// reached viewpoint gets no viewpoint planned: the vehicle stood where it should have seen
+  /// them well, and did not. A re-sampled cluster gets new viewpoint ids, so remembering the
+  /// reached ids alone let the vehicle hover from one re-sample to the next (seen in the paper
+  /// garage: floor patches beside pillars, 5-7 s at each). New frontier cells joining such a
+  /// cluster make it a target again once they are the larger part. Cells leave the record when
+  /// they stop being frontier. false: only the reached viewpoint ids are remembered.
+  bool skip_looked_at_clusters = true;
+  double looked_at_fraction = 0.5;
   /// A target viewpoint farther than this horizontally (or max_goal_climb_m vertically) is
   /// handed to the local planner in stages: the point of the searched path at that distance.
   /// The local planner sees a window around the robot only (minco_traj: 24 x 24 x 6 m); a goal
@@ -242,6 +252,8 @@ class ExplorationManager {
   void setAside(int id, double time_s);
   /// Set aside unreachable_attempts times: not planned for again.
   bool givenUp(int id) const;
+  /// Whether at least looked_at_fraction of a cluster's cells are in looked_at_cells_.
+  bool lookedAt(int cluster_id) const;
 
   ExplorationManagerConfig config_;
   std::optional<GuidepointPrior> prior_;
@@ -266,6 +278,8 @@ class ExplorationManager {
   std::vector<int> viewpoint_cluster_;  ///< cluster id per entry of viewpoints_
   std::vector<double> robot_len_;       ///< L(X_r, V) of the last plan per viewpoint
   std::set<int> reached_viewpoint_ids_;
+  /// Frontier cells of the clusters of reached viewpoints (looked_at_fraction).
+  std::unordered_set<VoxelKey, VoxelKeyHash> looked_at_cells_;
   std::set<int> reached_opening_ids_;  ///< openings visited (kept: one that stays is a dead end)
   OpeningTourMembership opening_membership_;
   std::map<int, Eigen::Vector3d> opening_look_at_;  ///< per opening viewpoint id

@@ -58,6 +58,8 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("unreachable_retry_s", e.unreachable_retry_s);
   p.get("unreachable_attempts", e.unreachable_attempts);
   p.get("unreachable_near_m", e.unreachable_near_m);
+  p.get("skip_looked_at_clusters", e.skip_looked_at_clusters);
+  p.get("looked_at_fraction", e.looked_at_fraction);
   p.get("fine_path_resolution_factor", e.fine_path_resolution_factor);
   p.get("opening_search_radius_m", e.openings.search_radius_m);
   p.get("opening_min_cells", e.openings.min_cells);
