@@ -442,7 +442,7 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   if (set_aside > 0) os << ", " << set_aside << " set aside (unreachable)";
   if (given_up > 0) os << ", " << given_up << " given up";
   if (looked_at > 0)
-    os << ", " << looked_at << " left (their frontier looked at from a reached one)";
+    os << ", " << looked_at << " left whose frontier was looked at from a reached viewpoint";
   os << retry_note;
   plan_message_ = os.str();
   const double length = robot_len_[first];
@@ -470,6 +470,7 @@ void ExplorationManager::markReached(int id) {
     return;
   }
   reached_viewpoint_ids_.insert(id);
+  if (!config_.skip_looked_at_clusters) return;
   for (const auto& [cluster_id, vps] : viewpoint_manager_.byCluster()) {
     for (const Viewpoint& v : vps) {
       if (v.id != id) continue;
