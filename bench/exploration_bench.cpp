@@ -258,18 +258,20 @@ int main(int argc, char** argv) {
     // CSV of every trial.
     std::ofstream csv(out_dir + "/exploration_trials.csv");
     csv << "world,method,seed,success,end,exploration_time_s,flight_distance_m,average_speed_mps,"
-           "coverage,time_to_coverage_goal_s,registration_ttc_s,registration_error_m,wall_s,"
-           "error\n";
+           "coverage,time_to_coverage_goal_s,registration_ttc_s,registration_error_m,"
+           "unseen_up,unseen_down,unseen_sideways,"
+           "wall_s,error\n";
     for (const auto& r : results) {
       csv << '"' << r.trial.world_label << "\",\"" << r.trial.spec.label() << "\","
           << r.trial.seed_index + 1 << ',' << r.report.success << ',' << r.report.end << ','
           << r.report.exploration_time_s << ',' << r.report.flight_distance_m << ','
           << r.report.average_speed_mps << ',' << r.report.coverage << ','
-          << (r.report.time_to_coverage_goal_s ? fmt(*r.report.time_to_coverage_goal_s) : "")
-          << ',' << (r.report.registration_ttc_s ? fmt(*r.report.registration_ttc_s) : "") << ','
+          << (r.report.time_to_coverage_goal_s ? fmt(*r.report.time_to_coverage_goal_s) : "") << ','
+          << (r.report.registration_ttc_s ? fmt(*r.report.registration_ttc_s) : "") << ','
           << (r.report.final_registration_error_m ? fmt(*r.report.final_registration_error_m, 2)
                                                   : "")
-          << ',' << fmt(r.wall_s) << ",\"" << r.error << "\"\n";
+          << ',' << r.report.unseen_up << ',' << r.report.unseen_down << ','
+          << r.report.unseen_sideways << ',' << fmt(r.wall_s) << ",\"" << r.error << "\"\n";
     }
 
     // One table per world, as the paper's.

@@ -311,7 +311,10 @@ void ExplorationMission::finish(MissionEnd end, const std::string& message) {
   if (tracking_samples_ > 0) {
     log_.rms_tracking_error_m = std::sqrt(tracking_error_sq_sum_ / tracking_samples_);
   }
-  if (sim.coverage()) log_.coverage = sim.coverage()->fraction();
+  if (const sim::Coverage* coverage = sim.coverage()) {
+    log_.coverage = coverage->fraction();
+    log_.coverage_gaps = sim::coverageGaps(*coverage, session_->world());
+  }
   const auto& gt = sim.groundTruth();
   log_.trajectory.push_back({sim.time_s(), gt.p_world_m, gt.v_world_m_s.norm()});
 }

@@ -88,6 +88,43 @@ cv::Mat fitHeight(const cv::Mat& img, int height) {
   return out;
 }
 
+/// The flown path in the pixels of sim::renderTopDown(world, mpp), `grid` = world.gridBox().
+std::vector<cv::Point2d> pathPixels(const MissionLog& log, const Eigen::AlignedBox3d& grid,
+                                    double mpp) {
+  std::vector<cv::Point2d> px;
+  for (const auto& rec : log.trajectory) {
+    px.emplace_back((rec.position_world_m.x() - grid.min().x()) / mpp,
+                    (grid.max().y() - rec.position_world_m.y()) / mpp);
+  }
+  return px;
+}
+
+/// The world from above with its unseen surface painted over it: up-facing (floors, roofs) red,
+/// down-facing (ceilings) blue, sideways orange, upward last so that an unseen floor under an
+/// unseen ceiling shows; the flown path on top.
+cv::Mat renderCoverageGaps(const sim::VoxelWorld& world, const MissionLog& log, double mpp) {
+  const Eigen::AlignedBox3d grid = world.gridBox();
+  cv::Mat img = sim::renderTopDown(world, mpp);
+  const sim::CoverageGaps& gaps = log.coverage_gaps;
+  const double voxel_m = gaps.voxel_size_m;
+  const auto paint = [&](sim::SurfaceFacing facing, const cv::Scalar& colour) {
+    for (size_t i = 0; i < gaps.unseen.size(); ++i) {
+      if (gaps.facing[i] != facing) continue;
+      const Eigen::Vector3d c = voxelCenter(gaps.unseen[i], voxel_m);
+      const cv::Point2d lo((c.x() - 0.5 * voxel_m - grid.min().x()) / mpp,
+                           (grid.max().y() - c.y() - 0.5 * voxel_m) / mpp);
+      const cv::Point2d hi = lo + cv::Point2d(voxel_m / mpp, voxel_m / mpp);
+      cv::rectangle(img, lo, hi, colour, cv::FILLED);
+    }
+  };
+  paint(sim::SurfaceFacing::kSideways, cv::Scalar(0, 150, 255));
+  paint(sim::SurfaceFacing::kDown, cv::Scalar(230, 120, 30));
+  paint(sim::SurfaceFacing::kUp, cv::Scalar(40, 40, 220));
+  drawPath(img, pathPixels(log, grid, mpp));
+  label(img, "surface never seen: red facing up, blue down, orange sideways", 0);
+  return img;
+}
+
 }  // namespace
 
 double registrationErrorRmse(const Sim2& estimate, const Sim2& truth,
@@ -133,6 +170,12 @@ MissionReport makeReport(const ExplorationMission& mission, const std::string& w
   r.planner_cpu_s = log.planner_cpu_s;
   r.trajectory_cpu_s = log.trajectory_cpu_s;
   r.simulator_cpu_s = log.simulator_cpu_s;
+  r.unseen_up = log.coverage_gaps.up;
+  r.unseen_down = log.coverage_gaps.down;
+  r.unseen_sideways = log.coverage_gaps.sideways;
+  r.truth_up = log.coverage_gaps.total_up;
+  r.truth_down = log.coverage_gaps.total_down;
+  r.truth_sideways = log.coverage_gaps.total_sideways;
   constexpr double kMb = 1024.0 * 1024.0;
   const planner::ExplorationManager& exploration = mission.explorationManager();
   r.planner_memory_mb =
@@ -191,6 +234,9 @@ std::string toJson(const MissionReport& r) {
     << "  \"coverage_truth\": {\"voxels\": " << r.coverage_truth_voxels
     << ", \"samples_reachable\": " << r.coverage_samples_reachable
     << ", \"samples_free\": " << r.coverage_samples_free << "},\n"
+    << "  \"unseen_surface\": {\"up\": " << r.unseen_up << ", \"down\": " << r.unseen_down
+    << ", \"sideways\": " << r.unseen_sideways << ", \"up_of\": " << r.truth_up
+    << ", \"down_of\": " << r.truth_down << ", \"sideways_of\": " << r.truth_sideways << "},\n"
     << "  \"registration_frames\": " << r.registration_frames << ",\n"
     << "  \"first_hypothesis_s\": " << jsonOptional(r.first_hypothesis_s) << ",\n"
     << "  \"registration_ttc_s\": " << jsonOptional(r.registration_ttc_s) << ",\n"
@@ -229,7 +275,10 @@ std::string toMarkdown(const MissionReport& r) {
     << fmtOptional(r.time_to_coverage_goal_s, 1, " s") << ") |\n"
     << "| coverage counts | " << r.coverage_truth_voxels << " surface voxels, seen from "
     << r.coverage_samples_reachable << " of " << r.coverage_samples_free
-    << " free-space samples (those the start can reach) |\n";
+    << " free-space samples (those the start can reach) |\n"
+    << "| surface never seen: facing up / down / sideways | " << r.unseen_up << " of " << r.truth_up
+    << " / " << r.unseen_down << " of " << r.truth_down << " / " << r.unseen_sideways << " of "
+    << r.truth_sideways << " voxels (coverage_gaps.png) |\n";
   if (!r.sketch.empty()) {
     o << "| registration frames | " << r.registration_frames << " |\n"
       << "| first hypothesis | " << fmtOptional(r.first_hypothesis_s, 1, " s") << " |\n"
@@ -264,12 +313,7 @@ std::vector<std::string> writeMissionPlots(const ExplorationMission& mission,
   const double extent_m = std::max(grid.sizes().x(), grid.sizes().y());
   const double mpp = std::max(0.05, extent_m / 900.0);
   cv::Mat truth = sim::renderTopDown(world, mpp);
-  std::vector<cv::Point2d> px;
-  for (const auto& rec : log.trajectory) {
-    px.emplace_back((rec.position_world_m.x() - grid.min().x()) / mpp,
-                    (grid.max().y() - rec.position_world_m.y()) / mpp);
-  }
-  drawPath(truth, px);
+  drawPath(truth, pathPixels(log, grid, mpp));
   label(truth, "ground truth (top-down)", 0);
   cv::Mat panel = truth;
   const auto& prior = mission.prior();
@@ -300,6 +344,9 @@ std::vector<std::string> writeMissionPlots(const ExplorationMission& mission,
   }
   written.push_back(dir + "/trajectory.png");
   writeImage(written.back(), panel);
+
+  written.push_back(dir + "/coverage_gaps.png");
+  writeImage(written.back(), renderCoverageGaps(world, log, mpp));
 
   written.push_back(dir + "/coverage.png");
   writeImage(written.back(),

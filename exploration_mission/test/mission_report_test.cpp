@@ -34,6 +34,28 @@ cv::Mat drawRoom() {
   return img;
 }
 
+// Where coverage fell short is in both reports.
+TEST(MissionReport, UnseenSurfaceIsReported) {
+  MissionReport r;
+  r.unseen_up = 100864;
+  r.unseen_down = 72336;
+  r.unseen_sideways = 68384;
+  r.truth_up = 320000;
+  r.truth_down = 310000;
+  r.truth_sideways = 141536;
+  const std::string md = toMarkdown(r);
+  EXPECT_NE(
+      md.find("| surface never seen: facing up / down / sideways | 100864 of 320000 / 72336 of "
+              "310000 / 68384 of 141536 voxels (coverage_gaps.png) |"),
+      std::string::npos)
+      << md;
+  const std::string json = toJson(r);
+  EXPECT_NE(json.find("\"unseen_surface\": {\"up\": 100864, \"down\": 72336, \"sideways\": 68384, "
+                      "\"up_of\": 320000, \"down_of\": 310000, \"sideways_of\": 141536}"),
+            std::string::npos)
+      << json;
+}
+
 TEST(MissionPrior, TruthIsReExpressedInTheBundleFrame) {
   // The drawing says 0.1 m/px; the user guesses 0.2 m/px. A pixel centre must land on the same
   // world point through either frame.

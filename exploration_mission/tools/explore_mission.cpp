@@ -22,7 +22,8 @@ constexpr const char* kUsage =
     R"(usage: explore_mission [options] --out DIR
 
 Flies one headless closed-loop exploration in simulated time and writes DIR/summary.json,
-DIR/summary.md, DIR/trajectory.png, DIR/coverage.png, DIR/plan_log.csv (a line per planning
+DIR/summary.md, DIR/trajectory.png, DIR/coverage.png, DIR/coverage_gaps.png (the surface never
+seen, from above), DIR/plan_log.csv (a line per planning
 cycle: mode, hypothesis, guidepoint states, next guidepoint, goal), DIR/goal_failures.csv (a line
 per goal the local planner gave up on: where, why, what the planner made of it), and with a sketch DIR/prior.prior (the
 pre-processed sketch), DIR/prior_overlay.png (and DIR/sketch.png when it draws one) and

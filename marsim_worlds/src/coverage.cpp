@@ -1,6 +1,7 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include "marsim_worlds/coverage.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "efs_common/config_check.h"
@@ -103,6 +104,39 @@ double Coverage::fraction() const {
 bool Coverage::isSeen(const VoxelKey& k) const {
   const std::optional<size_t> index = table_.find(k);
   return index && seen_[*index];
+}
+
+SurfaceFacing surfaceFacing(const WorldGeometry& world, const VoxelKey& key, double voxel_size_m) {
+  const Eigen::Vector3d c = voxelCenter(key, voxel_size_m);
+  const Eigen::Vector3d up(0.0, 0.0, voxel_size_m);
+  const bool solid_above = world.collides(c + up, 0.0);
+  const bool solid_below = world.collides(c - up, 0.0);
+  if (!solid_above && solid_below) return SurfaceFacing::kUp;
+  if (solid_above && !solid_below) return SurfaceFacing::kDown;
+  return SurfaceFacing::kSideways;
+}
+
+CoverageGaps coverageGaps(const Coverage& coverage, const WorldGeometry& world) {
+  CoverageGaps g;
+  g.voxel_size_m = coverage.config().voxel_size_m;
+  std::vector<std::pair<VoxelKey, SurfaceFacing>> unseen;
+  coverage.forEachVoxel([&](const VoxelKey& k, bool seen) {
+    const SurfaceFacing facing = surfaceFacing(world, k, g.voxel_size_m);
+    const bool up = facing == SurfaceFacing::kUp, down = facing == SurfaceFacing::kDown;
+    (up ? g.total_up : down ? g.total_down : g.total_sideways)++;
+    if (seen) return;
+    (up ? g.up : down ? g.down : g.sideways)++;
+    unseen.emplace_back(k, facing);
+  });
+  std::sort(unseen.begin(), unseen.end(),
+            [](const auto& a, const auto& b) { return voxelKeyLess(a.first, b.first); });
+  g.unseen.reserve(unseen.size());
+  g.facing.reserve(unseen.size());
+  for (const auto& [k, facing] : unseen) {
+    g.unseen.push_back(k);
+    g.facing.push_back(facing);
+  }
+  return g;
 }
 
 }  // namespace efs::sim

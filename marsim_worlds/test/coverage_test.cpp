@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "efs_common/config_check.h"
 #include "marsim_worlds/analytic_worlds.h"
 
@@ -64,6 +66,47 @@ TEST(Coverage, FractionCountsGroundTruthVoxelsOnceAndIgnoresOthers) {
   EXPECT_FALSE(cov.isSeen({9, 0, 0}));
   EXPECT_EQ(cov.observe(Eigen::Vector3d(-3.0, 0.1, 0.1), pts, dirs), 0u);  // monotone, no recount
   EXPECT_FALSE(cov.finished());
+}
+
+// The unseen surface of a closed room, sorted and told apart by the way it faces; a seen voxel
+// leaves it.
+TEST(Coverage, GapsAreTheUnseenSurfaceByFacing) {
+  const AnalyticBoxWorld room = alignedRoom();
+  ObservableSurfaceConfig oc;
+  oc.rays_per_point = 200000;
+  const VoxelKeySet gt = observableSurfaceKeys(room, {Eigen::Vector3d(0.0, 0.0, 1.35)}, oc);
+  Coverage cov(CoverageConfig{}, gt);
+  EXPECT_EQ(surfaceFacing(room, {0, 0, 0}, 0.3), SurfaceFacing::kUp);
+  EXPECT_EQ(surfaceFacing(room, {0, 0, 8}, 0.3), SurfaceFacing::kDown);
+  EXPECT_EQ(surfaceFacing(room, {-7, 0, 4}, 0.3), SurfaceFacing::kSideways);
+  EXPECT_EQ(surfaceFacing(room, {6, 3, 4}, 0.3), SurfaceFacing::kSideways);
+
+  CoverageGaps g = coverageGaps(cov, room);
+  ASSERT_EQ(g.unseen.size(), gt.size());
+  ASSERT_EQ(g.facing.size(), gt.size());
+  EXPECT_TRUE(std::is_sorted(g.unseen.begin(), g.unseen.end(), voxelKeyLess));
+  EXPECT_EQ(g.up + g.down + g.sideways, gt.size());
+  EXPECT_EQ(g.total_up, g.up);
+  EXPECT_EQ(g.total_down, g.down);
+  EXPECT_EQ(g.total_sideways, g.sideways);
+  // The floor's and the ceiling's 12 x 12 inner voxels at least, at most with the walls' rim
+  // along them (corner voxels hold both surfaces); the walls between floor and ceiling rows.
+  EXPECT_GE(g.up, 12u * 12u);
+  EXPECT_LE(g.up, 14u * 14u + 4u * 13u);
+  EXPECT_GE(g.down, 12u * 12u);
+  EXPECT_LE(g.down, 14u * 14u + 4u * 13u);
+  EXPECT_GE(g.sideways, 4u * 12u * 5u);
+  EXPECT_DOUBLE_EQ(g.voxel_size_m, 0.3);
+
+  const std::vector<Eigen::Vector3f> hit = {{0.1f, 0.1f, 0.15f}};
+  const std::vector<Eigen::Vector3f> down = {-Eigen::Vector3f::UnitZ()};
+  ASSERT_EQ(cov.observe(Eigen::Vector3d(0.1, 0.1, 1.35), hit, down), 1u);
+  g = coverageGaps(cov, room);
+  EXPECT_EQ(g.unseen.size(), gt.size() - 1);
+  EXPECT_EQ(g.up, g.total_up - 1);
+  EXPECT_EQ(g.down, g.total_down);
+  EXPECT_FALSE(
+      std::binary_search(g.unseen.begin(), g.unseen.end(), VoxelKey{0, 0, 0}, voxelKeyLess));
 }
 
 TEST(Coverage, FreeSamplePointsKeepClearance) {

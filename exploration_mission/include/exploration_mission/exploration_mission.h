@@ -80,6 +80,8 @@ struct MissionLog {
   /// planning (until 2026-11-29 it also held the registration's, frames counted in both).
   double registration_cpu_s = 0.0, planner_cpu_s = 0.0, trajectory_cpu_s = 0.0;
   double simulator_cpu_s = 0.0;
+  /// Where coverage fell short at the end (empty without ground truth).
+  sim::CoverageGaps coverage_gaps;
 };
 
 /// A progress snapshot for a progress line.

@@ -51,6 +51,9 @@ struct MissionReport {
   /// Heap held at the end: the exploration planner's observation map and occupancy, and the
   /// local planner's grid with its surface memory. Both grow with the mapped surface.
   double planner_memory_mb = 0.0, local_grid_memory_mb = 0.0;
+  /// Ground-truth surface never seen, by the way it faces (sim::coverageGaps).
+  size_t unseen_up = 0, unseen_down = 0, unseen_sideways = 0;
+  size_t truth_up = 0, truth_down = 0, truth_sideways = 0;  ///< of the whole ground truth
 };
 
 /// Root-mean-square distance between `points` mapped by `estimate` and by `truth` (the
@@ -74,8 +77,10 @@ struct CoverageSeries {
 cv::Mat renderCoveragePlot(const std::vector<CoverageSeries>& series, const std::string& title);
 
 /// Writes `<dir>/trajectory.png` (ground-truth top-down view and, with a sketch, the sketch with
-/// the trajectory mapped by the final best hypothesis) and `<dir>/coverage.png`. Returns the
-/// files written. Throws std::runtime_error naming a file that cannot be written.
+/// the trajectory mapped by the final best hypothesis), `<dir>/coverage.png` and
+/// `<dir>/coverage_gaps.png` (the unseen ground-truth surface from above, coloured by the way it
+/// faces, under the flown path). Returns the files written. Throws std::runtime_error naming a file
+/// that cannot be written.
 std::vector<std::string> writeMissionPlots(const ExplorationMission& mission,
                                            const std::string& dir);
 

@@ -81,6 +81,11 @@ class Coverage {
   double fraction() const;
   bool finished() const { return fraction() >= config_.finished_fraction; }
   bool isSeen(const VoxelKey& k) const;
+  /// Calls f(key, seen) for every ground-truth surface voxel, in no particular order.
+  template <class F>
+  void forEachVoxel(F&& f) const {
+    for (std::size_t i = 0; i < table_.size(); ++i) f(table_.key(i), seen_[i] != 0);
+  }
 
  private:
   CoverageConfig config_;
@@ -88,5 +93,23 @@ class Coverage {
   std::vector<uint8_t> seen_;  ///< per surface voxel, by its index in table_
   std::size_t seen_count_ = 0;
 };
+
+/// Which way a ground-truth surface voxel faces, judged from the world one voxel above and below
+/// its centre: up (free above, solid below: floors, car roofs), down (solid above, free below:
+/// ceilings), otherwise sideways (walls, and edges where neither holds).
+enum class SurfaceFacing { kUp, kDown, kSideways };
+SurfaceFacing surfaceFacing(const WorldGeometry& world, const VoxelKey& key, double voxel_size_m);
+
+/// Where coverage fell short: the unseen ground-truth surface, by the way it faces, beside the
+/// whole surface so counted. On the paper-size garage the floor is what is missed most (README,
+/// "Where coverage falls short").
+struct CoverageGaps {
+  std::vector<VoxelKey> unseen;                                  ///< voxelKeyLess order
+  std::vector<SurfaceFacing> facing;                             ///< per unseen voxel
+  std::size_t up = 0, down = 0, sideways = 0;                    ///< unseen
+  std::size_t total_up = 0, total_down = 0, total_sideways = 0;  ///< the whole ground truth
+  double voxel_size_m = 0.0;                                     ///< of the keys
+};
+CoverageGaps coverageGaps(const Coverage& coverage, const WorldGeometry& world);
 
 }  // namespace efs::sim
