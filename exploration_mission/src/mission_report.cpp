@@ -88,14 +88,12 @@ cv::Mat fitHeight(const cv::Mat& img, int height) {
   return out;
 }
 
-/// The flown path in the pixels of sim::renderTopDown(world, mpp), `grid` = world.gridBox().
-std::vector<cv::Point2d> pathPixels(const MissionLog& log, const Eigen::AlignedBox3d& grid,
+/// The flown path in the pixels of sim::renderTopDown(world, mpp).
+std::vector<cv::Point2d> pathPixels(const sim::VoxelWorld& world, const MissionLog& log,
                                     double mpp) {
   std::vector<cv::Point2d> px;
-  for (const auto& rec : log.trajectory) {
-    px.emplace_back((rec.position_world_m.x() - grid.min().x()) / mpp,
-                    (grid.max().y() - rec.position_world_m.y()) / mpp);
-  }
+  for (const auto& rec : log.trajectory)
+    px.push_back(sim::topDownPixel(world, mpp, rec.position_world_m.head<2>()));
   return px;
 }
 
@@ -103,7 +101,6 @@ std::vector<cv::Point2d> pathPixels(const MissionLog& log, const Eigen::AlignedB
 /// down-facing (ceilings) blue, sideways orange, upward last so that an unseen floor under an
 /// unseen ceiling shows; the flown path on top.
 cv::Mat renderCoverageGaps(const sim::VoxelWorld& world, const MissionLog& log, double mpp) {
-  const Eigen::AlignedBox3d grid = world.gridBox();
   cv::Mat img = sim::renderTopDown(world, mpp);
   const sim::CoverageGaps& gaps = log.coverage_gaps;
   const double voxel_m = gaps.voxel_size_m;
@@ -111,16 +108,16 @@ cv::Mat renderCoverageGaps(const sim::VoxelWorld& world, const MissionLog& log, 
     for (size_t i = 0; i < gaps.unseen.size(); ++i) {
       if (gaps.facing[i] != facing) continue;
       const Eigen::Vector3d c = voxelCenter(gaps.unseen[i], voxel_m);
-      const cv::Point2d lo((c.x() - 0.5 * voxel_m - grid.min().x()) / mpp,
-                           (grid.max().y() - c.y() - 0.5 * voxel_m) / mpp);
-      const cv::Point2d hi = lo + cv::Point2d(voxel_m / mpp, voxel_m / mpp);
+      const Eigen::Vector2d half(0.5 * voxel_m, 0.5 * voxel_m);
+      const cv::Point2d lo = sim::topDownPixel(world, mpp, c.head<2>() - half);
+      const cv::Point2d hi = sim::topDownPixel(world, mpp, c.head<2>() + half);
       cv::rectangle(img, lo, hi, colour, cv::FILLED);
     }
   };
   paint(sim::SurfaceFacing::kSideways, cv::Scalar(0, 150, 255));
   paint(sim::SurfaceFacing::kDown, cv::Scalar(230, 120, 30));
   paint(sim::SurfaceFacing::kUp, cv::Scalar(40, 40, 220));
-  drawPath(img, pathPixels(log, grid, mpp));
+  drawPath(img, pathPixels(world, log, mpp));
   label(img, "surface never seen: red facing up, blue down, orange sideways", 0);
   return img;
 }
@@ -313,7 +310,7 @@ std::vector<std::string> writeMissionPlots(const ExplorationMission& mission,
   const double extent_m = std::max(grid.sizes().x(), grid.sizes().y());
   const double mpp = std::max(0.05, extent_m / 900.0);
   cv::Mat truth = sim::renderTopDown(world, mpp);
-  drawPath(truth, pathPixels(log, grid, mpp));
+  drawPath(truth, pathPixels(world, log, mpp));
   label(truth, "ground truth (top-down)", 0);
   cv::Mat panel = truth;
   const auto& prior = mission.prior();

@@ -23,12 +23,12 @@ constexpr const char* kUsage =
 
 Flies one headless closed-loop exploration in simulated time and writes DIR/summary.json,
 DIR/summary.md, DIR/trajectory.png, DIR/coverage.png, DIR/coverage_gaps.png (the surface never
-seen, from above), DIR/plan_log.csv (a line per planning
-cycle: mode, hypothesis, guidepoint states, next guidepoint, goal), DIR/goal_failures.csv (a line
-per goal the local planner gave up on: where, why, what the planner made of it), and with a sketch DIR/prior.prior (the
+seen, from above), DIR/plan_log.csv (a line per planning cycle: mode, hypothesis, guidepoint
+states, next guidepoint, goal), DIR/goal_failures.csv (a line per goal the local planner gave up
+on: where, why, what the planner made of it), and with a sketch DIR/prior.prior (the
 pre-processed sketch), DIR/prior_overlay.png (and DIR/sketch.png when it draws one) and
-DIR/registration_log.csv (a line per registration frame: status, its reason, best hypothesis), and
-what the mission leaves behind in DIR/map/: cloud.pcd (dense point cloud), occupancy.bt
+DIR/registration_log.csv (a line per registration frame: status, its reason, best hypothesis),
+and what the mission leaves behind in DIR/map/: cloud.pcd (dense point cloud), occupancy.bt
 (OctoMap), trajectory.csv and registration.yaml (the sketch-to-world transforms), world frame.
 Exit status: 0 success, 3 finished without success (coverage < 95 % or collision), 2 bad input.
 

@@ -485,14 +485,20 @@ cv::Mat renderTopDown(const VoxelWorld& world, double mpp) {
     }
   }
   for (const StartPose& s : world.start_poses) {
-    const cv::Point2d px((s.position_m.x() - grid.min().x()) / mpp,
-                         (grid.max().y() - s.position_m.y()) / mpp);
+    const cv::Point2d px = topDownPixel(world, mpp, s.position_m.head<2>());
     const double len = std::max(6.0, 2.0 / mpp);
     const cv::Point2d tip(px.x + len * std::cos(s.yaw_rad), px.y - len * std::sin(s.yaw_rad));
     cv::circle(img, px, std::max(3, static_cast<int>(len / 3)), cv::Scalar(0, 0, 255), -1);
     cv::arrowedLine(img, px, tip, cv::Scalar(0, 0, 255), 2);
   }
   return img;
+}
+
+cv::Point2d topDownPixel(const VoxelWorld& world, double metres_per_pixel,
+                         const Eigen::Vector2d& p_world_xy) {
+  const Eigen::AlignedBox3d grid = world.gridBox();
+  return {(p_world_xy.x() - grid.min().x()) / metres_per_pixel,
+          (grid.max().y() - p_world_xy.y()) / metres_per_pixel};
 }
 
 }  // namespace efs::sim

@@ -110,5 +110,8 @@ std::string sidecarPath(const std::string& png_path);
 /// Top-down picture of a world for people: free columns in the band white, walls black, solid
 /// grey, start poses as red arrows. CV_8UC3, north up, `metres_per_pixel` per pixel.
 cv::Mat renderTopDown(const VoxelWorld& world, double metres_per_pixel);
+/// Where a world point falls in renderTopDown(world, metres_per_pixel) (sub-pixel).
+cv::Point2d topDownPixel(const VoxelWorld& world, double metres_per_pixel,
+                         const Eigen::Vector2d& p_world_xy);
 
 }  // namespace efs::sim
