@@ -3,6 +3,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 namespace efs::mission {
 
@@ -22,7 +23,8 @@ PlanLog::PlanLog(std::ostream& out) : out_(out) {
   out_ << "time_s,x_m,y_m,z_m,state,mode,active_hypothesis,hypotheses,viewpoints,unexplored,"
           "exploring,explored,outside,target_group,isolated,next_guidepoint_x_m,"
           "next_guidepoint_y_m,terminal_x_m,terminal_y_m,goal_x_m,goal_y_m,goal_z_m,viewpoint_x_m,"
-          "viewpoint_y_m,viewpoint_z_m,tour,guidepoints\n";
+          "viewpoint_y_m,viewpoint_z_m,tour,guidepoints,replan_reason,target_viewpoint_id,"
+          "previous_target_rank\n";
 }
 
 void PlanLog::record(double time_s, const Eigen::Vector3d& robot,
@@ -56,7 +58,25 @@ void PlanLog::record(double time_s, const Eigen::Vector3d& robot,
   out_ << ',';
   xyz(target.viewpoint_world_m);
   out_ << ',' << plan->tour.viewpoints.size() << ','
-       << (attachment ? guidepointsText(*attachment) : std::string()) << '\n';
+       << (attachment ? guidepointsText(*attachment) : std::string()) << ','
+       << planner::toString(target.replan_reason) << ',';
+  if (target.goal_viewpoint_id) out_ << *target.goal_viewpoint_id;
+  out_ << ',';
+  // Where the previous target went in this tour: 0 it is still first, k it was put behind k
+  // others, empty it is no longer in the tour (reached, seen, set aside, or no previous one).
+  if (previous_target_id_) {
+    const std::vector<planner::PlanViewpoint>& vps = manager.viewpoints();
+    const std::vector<int>& tour = plan->tour.viewpoints;
+    for (size_t k = 0; k < tour.size(); ++k) {
+      const int i = tour[k];
+      if (i >= 0 && static_cast<size_t>(i) < vps.size() && vps[i].id == *previous_target_id_) {
+        out_ << k;
+        break;
+      }
+    }
+  }
+  out_ << '\n';
+  previous_target_id_ = target.goal_viewpoint_id;
   ++rows_;
 }
 

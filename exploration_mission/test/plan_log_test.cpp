@@ -7,6 +7,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace efs::mission {
 namespace {
@@ -29,6 +30,29 @@ std::vector<Eigen::Vector3f> boxScan(const Eigen::Vector3d& o, const Eigen::Vect
 }
 
 size_t columns(const std::string& line) { return std::count(line.begin(), line.end(), ',') + 1; }
+
+/// The fields of a CSV line (no quoting in the plan log).
+std::vector<std::string> fields(const std::string& line) {
+  std::vector<std::string> out(1);
+  for (char ch : line) {
+    if (ch == ',') {
+      out.emplace_back();
+    } else {
+      out.back() += ch;
+    }
+  }
+  return out;
+}
+
+/// The value of column `name` of `row` under `header`; fails the test when there is none.
+std::string column(const std::string& header, const std::string& row, const std::string& name) {
+  const std::vector<std::string> h = fields(header), r = fields(row);
+  const auto it = std::find(h.begin(), h.end(), name);
+  EXPECT_NE(it, h.end()) << "no column " << name;
+  EXPECT_EQ(h.size(), r.size());
+  const size_t k = static_cast<size_t>(it - h.begin());
+  return it == h.end() || k >= r.size() ? std::string("<missing>") : r[k];
+}
 
 TEST(PlanLog, OneLinePerPlanWithTheHeadersColumns) {
   std::ostringstream out;
@@ -55,7 +79,49 @@ TEST(PlanLog, OneLinePerPlanWithTheHeadersColumns) {
   EXPECT_EQ(header.rfind("time_s,x_m,y_m,z_m,state,mode,", 0), 0u);
   EXPECT_EQ(row.rfind("0.1,2,0.1,1.6,exploring,prior_free,-1,0,", 0), 0u) << row;
   // No hypothesis guided: the guidepoints column is empty.
-  EXPECT_EQ(row.back(), ',') << row;
+  EXPECT_EQ(column(header, row, "guidepoints"), "");
+  EXPECT_EQ(column(header, row, "replan_reason"), "first_plan");
+  EXPECT_EQ(column(header, row, "target_viewpoint_id"), std::to_string(*t.goal_viewpoint_id));
+  EXPECT_EQ(column(header, row, "previous_target_rank"), "");  // there was no previous target
+}
+
+TEST(PlanLog, SaysWhyEachPlanRanAndWhereThePreviousTargetWent) {
+  std::ostringstream out;
+  PlanLog log(out);
+  planner::ExplorationManagerConfig config;
+  config.replan_period_s = 1.0;
+  planner::ExplorationManager m(config, std::nullopt);
+  const Eigen::Vector3d robot(2.0, 0.1, 1.6);
+  planner::RobotPose pose;
+  pose.position_world_m = robot;
+  m.insertScan(robot, boxScan(robot, {0.15, -2.85, 0.15}, {60.0, 3.15, 3.15}));
+  const planner::ExplorationTarget& t = m.update(0.1, pose);
+  ASSERT_TRUE(t.has_goal) << t.message;
+  log.record(0.1, robot, m);
+  const int first_target = *t.goal_viewpoint_id;
+  // Before the period is up, with the target standing, nothing is planned.
+  EXPECT_FALSE(m.update(0.5, pose).replanned);
+  // The period elapsed, nothing seen since: the same target stays first in the new tour.
+  ASSERT_TRUE(m.update(1.2, pose).replanned);
+  log.record(1.2, robot, m);
+  // The vehicle stands at the target viewpoint: reached, so it leaves the tour.
+  planner::RobotPose at_target;
+  at_target.position_world_m = t.viewpoint_world_m;
+  ASSERT_TRUE(m.update(1.3, at_target).replanned);
+  log.record(1.3, t.viewpoint_world_m, m);
+
+  std::istringstream in(out.str());
+  std::string header, first, periodic, reached;
+  ASSERT_TRUE(std::getline(in, header));
+  ASSERT_TRUE(std::getline(in, first));
+  ASSERT_TRUE(std::getline(in, periodic));
+  ASSERT_TRUE(std::getline(in, reached));
+  EXPECT_EQ(column(header, periodic, "replan_reason"), "period");
+  EXPECT_EQ(column(header, periodic, "target_viewpoint_id"), std::to_string(first_target));
+  EXPECT_EQ(column(header, periodic, "previous_target_rank"), "0");
+  EXPECT_EQ(column(header, reached, "replan_reason"), "target_reached");
+  EXPECT_NE(column(header, reached, "target_viewpoint_id"), std::to_string(first_target));
+  EXPECT_EQ(column(header, reached, "previous_target_rank"), "");
 }
 
 TEST(PlanLog, GuidepointsColumnGivesEachStateAndItsAttachedViewpoints) {

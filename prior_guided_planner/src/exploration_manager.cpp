@@ -56,6 +56,30 @@ const char* toString(GoalRefusal r) {
   return "unknown";
 }
 
+const char* toString(ReplanReason r) {
+  switch (r) {
+    case ReplanReason::kFirstPlan:
+      return "first_plan";
+    case ReplanReason::kNewHypotheses:
+      return "new_hypotheses";
+    case ReplanReason::kGoalRefused:
+      return "goal_refused";
+    case ReplanReason::kNoProgress:
+      return "no_progress";
+    case ReplanReason::kNoGoal:
+      return "no_goal";
+    case ReplanReason::kTargetReached:
+      return "target_reached";
+    case ReplanReason::kHalfWay:
+      return "half_way";
+    case ReplanReason::kTargetGone:
+      return "target_gone";
+    case ReplanReason::kPeriod:
+      return "period";
+  }
+  return "unknown";
+}
+
 const char* toString(ExplorationState s) {
   switch (s) {
     case ExplorationState::kWaitingForData:
@@ -195,23 +219,32 @@ GoalRefusal ExplorationManager::reportGoalUnreachable(const Eigen::Vector3d& goa
   return near ? GoalRefusal::kCountedReached : GoalRefusal::kSetAside;
 }
 
-bool ExplorationManager::replanDue(double time_s, const RobotPose& robot) const {
-  if (!last_plan_time_s_ || hypotheses_changed_ || goal_refused_) return true;
-  if (time_s - *last_plan_time_s_ >= config_.replan_period_s) return true;
-  if (!target_.has_goal || !target_.goal_viewpoint_id) return true;
+std::optional<ReplanReason> ExplorationManager::replanDue(double time_s,
+                                                          const RobotPose& robot) const {
+  if (!last_plan_time_s_) return ReplanReason::kFirstPlan;
+  if (hypotheses_changed_) return ReplanReason::kNewHypotheses;
+  if (goal_refused_) return ReplanReason::kGoalRefused;
+  if (!target_.has_goal || !target_.goal_viewpoint_id) return ReplanReason::kNoGoal;
   if ((robot.position_world_m - target_.viewpoint_world_m).norm() <= config_.target_reached_m)
-    return true;
+    return ReplanReason::kTargetReached;
   // Half-way to a goal that is not the viewpoint itself (a stage on the way, or a point past it
   // along the tour): the next one is due before the local planner slows down for it.
   if (target_.goal_world_m != target_.viewpoint_world_m &&
       (robot.position_world_m - target_.goal_world_m).norm() <= 0.5 * goal_distance_at_plan_m_)
-    return true;
+    return ReplanReason::kHalfWay;
+  const bool period = time_s - *last_plan_time_s_ >= config_.replan_period_s;
   // An opening stays the target until the next periodic plan looks again.
-  if (opening_look_at_.count(*target_.goal_viewpoint_id)) return false;
+  if (opening_look_at_.count(*target_.goal_viewpoint_id)) {
+    if (period) return ReplanReason::kPeriod;
+    return std::nullopt;
+  }
   for (const auto& [cluster, vps] : viewpoint_manager_.byCluster())
     for (const Viewpoint& v : vps)
-      if (v.id == *target_.goal_viewpoint_id) return false;
-  return true;  // the target viewpoint is gone: its frontier was observed or it became unsafe
+      if (v.id == *target_.goal_viewpoint_id) {
+        if (period) return ReplanReason::kPeriod;
+        return std::nullopt;
+      }
+  return ReplanReason::kTargetGone;  // its frontier was observed or it became unsafe
 }
 
 void ExplorationManager::replan(double time_s, const RobotPose& robot) {
@@ -601,7 +634,12 @@ const ExplorationTarget& ExplorationManager::update(double time_s, const RobotPo
     return target_;
   }
   refreshMapProducts();
-  if (!checkProgress(time_s) || replanDue(time_s, robot)) replan(time_s, robot);
+  std::optional<ReplanReason> reason =
+      checkProgress(time_s) ? replanDue(time_s, robot) : ReplanReason::kNoProgress;
+  if (reason) {
+    target_.replan_reason = *reason;
+    replan(time_s, robot);
+  }
   target_.message = plan_message_;
   if (!pending_message_.empty()) {
     target_.message += "; " + pending_message_;

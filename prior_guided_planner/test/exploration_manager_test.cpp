@@ -92,16 +92,45 @@ TEST(ExplorationManager, NoReplanBeforeThePeriodUnlessTheTargetIsReached) {
   const Eigen::Vector3d start = corridorStart();
   scanCorridor(m);
   ASSERT_TRUE(m.update(0.0, at(start)).replanned);
+  EXPECT_EQ(m.target().replan_reason, ReplanReason::kFirstPlan);
   const Eigen::Vector3d goal = m.target().goal_world_m;
   EXPECT_FALSE(m.update(1.0, at(start)).replanned);
   EXPECT_TRUE(m.target().goal_world_m.isApprox(goal));
   EXPECT_TRUE(m.update(5.5, at(start)).replanned);  // period elapsed
+  EXPECT_EQ(m.target().replan_reason, ReplanReason::kPeriod);
   const Eigen::Vector3d goal2 = m.target().goal_world_m;
   // Reaching the target replans at once, and the reached viewpoint is not the target again.
-  const ExplorationTarget& t = m.update(5.6, at(goal2));
+  const ExplorationTarget& t = m.update(5.6, at(m.target().viewpoint_world_m));
   EXPECT_TRUE(t.replanned);
+  EXPECT_EQ(t.replan_reason, ReplanReason::kTargetReached);
+  EXPECT_STREQ(toString(t.replan_reason), "target_reached");
   if (t.has_goal) {
     EXPECT_GT((t.goal_world_m - goal2).norm(), 1e-6);
+  }
+}
+
+// A scan that sees the target's frontier well (here: taken from the target viewpoint while the
+// vehicle is still at the start) removes the viewpoint; the next update replans at once, inside
+// the period, and says why.
+TEST(ExplorationManager, ATargetWhoseFrontierWasSeenIsReplacedAtOnce) {
+  ExplorationManagerConfig c;
+  c.replan_period_s = 100.0;
+  c.tour_lookahead_m = 0.0;
+  c.observation.facing_min_cosine = testing::kStrictFacingMinCosine;
+  ExplorationManager m(c, std::nullopt);
+  const Eigen::Vector3d start = corridorStart();
+  scanCorridor(m);
+  ASSERT_TRUE(m.update(0.0, at(start)).has_goal) << m.target().message;
+  const int first = *m.target().goal_viewpoint_id;
+  const Eigen::Vector3d viewpoint = m.target().viewpoint_world_m;
+  ASSERT_GT((viewpoint - start).norm(), c.target_reached_m);
+  EXPECT_FALSE(m.update(0.1, at(start)).replanned);
+  scanFrom(m, corridorRoom(), viewpoint);
+  const ExplorationTarget& t = m.update(0.2, at(start));
+  EXPECT_TRUE(t.replanned);
+  EXPECT_EQ(t.replan_reason, ReplanReason::kTargetGone);
+  if (t.goal_viewpoint_id) {
+    EXPECT_NE(*t.goal_viewpoint_id, first);
   }
 }
 
@@ -245,6 +274,7 @@ TEST(ExplorationManager, AGoalTheLocalPlannerGaveUpOnIsSetAsideAtOnce) {
   ASSERT_EQ(m.reportGoalUnreachable(goal, 0.6), GoalRefusal::kSetAside);
   const ExplorationTarget& t = m.update(0.7, at(start));
   EXPECT_TRUE(t.replanned);
+  EXPECT_EQ(t.replan_reason, ReplanReason::kGoalRefused);
   ASSERT_EQ(t.state, ExplorationState::kExploring) << t.message;
   EXPECT_NE(*t.goal_viewpoint_id, first);
   EXPECT_NE(t.message.find("set aside"), std::string::npos) << t.message;
@@ -554,6 +584,7 @@ TEST(ExplorationManager, HypothesesGuideAndBadOnesAreRefused) {
   m.setHypotheses({});
   const ExplorationTarget& t2 = m.update(0.2, at(start));
   EXPECT_TRUE(t2.replanned);
+  EXPECT_EQ(t2.replan_reason, ReplanReason::kNewHypotheses);
   EXPECT_EQ(t2.mode_used, BaselineMode::kPriorFree);
   EXPECT_EQ(m.activeAttachment(), nullptr);
   EXPECT_TRUE(m.activeGuidepointSequence().empty());

@@ -2,11 +2,13 @@
 //
 // A CSV line per planning cycle of the exploration planner: where the robot was, which mode and
 // hypothesis guided, the guidepoint states under it, the target group, the next guidepoint and
-// the FE-TSP's terminal, the goal handed to the local planner. What a person reads to see why a
-// flight went where it went (explore_mission --plan-log).
+// the FE-TSP's terminal, the goal handed to the local planner, why the cycle ran and what
+// became of the previous target. What a person reads to see why a flight went where it went
+// (explore_mission --plan-log).
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -32,6 +34,8 @@ class PlanLog {
  private:
   std::ostream& out_;
   size_t rows_ = 0;
+  /// The goal viewpoint of the last line, for the `previous_target_rank` column.
+  std::optional<int> previous_target_id_;
 };
 
 }  // namespace efs::mission

@@ -140,6 +140,22 @@ struct ExplorationManagerConfig {
 enum class ExplorationState { kWaitingForData, kExploring, kFinished, kStuck };
 const char* toString(ExplorationState s);
 
+/// Why a planning cycle ran (the first reason that applied, in this order). A flight that turns
+/// round is read from these: a target that vanished before it was reached, against a periodic
+/// plan that ordered the same viewpoints differently.
+enum class ReplanReason {
+  kFirstPlan,      ///< no plan yet
+  kNewHypotheses,  ///< the registration's hypotheses changed
+  kGoalRefused,    ///< the local planner gave up on the goal, or every goal was refused
+  kNoProgress,     ///< target_progress_timeout_s passed without progress: target set aside
+  kNoGoal,         ///< the last plan sent no goal
+  kTargetReached,  ///< the robot came within target_reached_m of the target viewpoint
+  kHalfWay,        ///< half-way to a goal short of the viewpoint (a stage, a look-ahead)
+  kTargetGone,     ///< the target viewpoint is gone: its frontier was seen, or it became unsafe
+  kPeriod,         ///< replan_period_s elapsed
+};
+const char* toString(ReplanReason r);
+
 /// What reportGoalUnreachable made of a goal the local planner gave up on.
 enum class GoalRefusal {
   kNotCurrent,      ///< not the current goal (or not finite): nothing changed
@@ -165,8 +181,9 @@ struct ExplorationTarget {
   std::vector<Eigen::Vector3d> tour_world_m;  ///< local tour (viewpoint positions) for display
   std::optional<int> active_hypothesis_id;
   BaselineMode mode_used = BaselineMode::kPriorFree;
-  bool replanned = false;  ///< a new plan this update
-  std::string message;     ///< why there is no goal, what input was refused, ...
+  bool replanned = false;                                 ///< a new plan this update
+  ReplanReason replan_reason = ReplanReason::kFirstPlan;  ///< why the last plan ran
+  std::string message;  ///< why there is no goal, what input was refused, ...
 };
 
 /// Counters of refused input, for status messages and tests.
@@ -231,7 +248,8 @@ class ExplorationManager {
 
  private:
   void refreshMapProducts();
-  bool replanDue(double time_s, const RobotPose& robot) const;
+  /// Why a plan is due now; std::nullopt while the current target stands.
+  std::optional<ReplanReason> replanDue(double time_s, const RobotPose& robot) const;
   void replan(double time_s, const RobotPose& robot);
   /// The goal for the local planner on the way from `from` to `viewpoint` (see
   /// max_goal_distance_m); the viewpoint itself when near enough or when no path is found.
