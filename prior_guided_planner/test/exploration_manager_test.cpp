@@ -203,6 +203,9 @@ TEST(ExplorationManager, TargetsWithoutProgressAreRetriedThenGivenUp) {
     m.update(t, at(start));
     retried_early |= m.target().message.find("retried early") != std::string::npos;
     if (m.target().goal_viewpoint_id && *m.target().goal_viewpoint_id != last) {
+      if (changes.empty()) {
+        EXPECT_EQ(m.target().replan_reason, ReplanReason::kNoProgress);
+      }
       last = *m.target().goal_viewpoint_id;
       changes.emplace_back(t, last);
       ++turns[last];
@@ -222,8 +225,10 @@ TEST(ExplorationManager, TargetsWithoutProgressAreRetriedThenGivenUp) {
   EXPECT_NE(m.target().message.find(std::to_string(turns.size()) + " left unvisited, given up"),
             std::string::npos)
       << m.target().message;
-  // Once finished it stays finished: nothing given up comes back.
-  m.update(t + c.unreachable_retry_s + 1.0, at(start));
+  // Once finished it stays finished: nothing given up comes back. Without a goal every update
+  // looks again.
+  EXPECT_TRUE(m.update(t + c.unreachable_retry_s + 1.0, at(start)).replanned);
+  EXPECT_EQ(m.target().replan_reason, ReplanReason::kNoGoal);
   EXPECT_EQ(m.target().state, ExplorationState::kFinished) << m.target().message;
 
   // Progress keeps a target: moving toward it (0.4 m/s) never sets it aside.
