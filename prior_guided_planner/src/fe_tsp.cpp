@@ -18,6 +18,7 @@ void FeTspConfig::validate() const {
   requireInRange("fe_tsp.direction_change_cost_s_per_rad", direction_change_cost_s_per_rad, 0.0,
                  100.0);
   requireInRange("fe_tsp.direction_min_speed_mps", direction_min_speed_mps, 0.0, 100.0);
+  requireInRange("fe_tsp.velocity_change_accel_mps2", velocity_change_accel_mps2, 0.0, 100.0);
   atsp.validate();
 }
 
@@ -51,6 +52,10 @@ CostMatrix buildFeTspMatrix(const RobotPose& robot, const std::vector<PlanViewpo
       turn_s = config.direction_change_cost_s_per_rad *
                std::abs(angleDiff(std::atan2(to_v.y(), to_v.x()), heading_rad));
     }
+    // Planar, as the direction term: the vehicle climbs and turns on separate axes.
+    if (!term && config.velocity_change_accel_mps2 > 0.0 && v_xy.allFinite() && to_v.norm() > 1e-6)
+      turn_s +=
+          (config.v_max_mps * to_v.normalized() - v_xy).norm() / config.velocity_change_accel_mps2;
     c(0, a + 1) =
         l < kUnreachable ? std::max(l / config.v_max_mps, dyaw_s) + urg + turn_s : kUnreachable;
     c(a + 1, 0) = 0.0;

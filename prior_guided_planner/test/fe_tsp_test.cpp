@@ -208,6 +208,40 @@ TEST(FeTsp, HoveringGuidedOrPaperCostsHaveNoDirectionTerm) {
   EXPECT_NEAR(unknown(0, 2), 1.5, 1e-12);
 }
 
+// The time to turn the velocity towards a viewpoint at the acceleration limit: nothing straight
+// ahead at full speed, 4 * sqrt(2) / a at a right angle, 2 * 4 / a to turn back.
+TEST(FeTsp, VelocityChangeCostIsTheTimeToTurnTheVelocity) {
+  RobotPose robot;
+  robot.position_world_m.z() = 1.0;
+  robot.velocity_world_mps = Eigen::Vector3d(4.0, 0.0, 0.5);  // climbing does not count
+  const std::vector<PlanViewpoint> v{
+      {0, {6.0, 0.0, 1.0}, 0.0}, {1, {0.0, 6.0, 1.0}, 0.0}, {2, {-6.0, 0.0, 1.0}, 0.0}};
+  const auto L = euclidean(robot, v);
+  FeTspConfig cfg;
+  cfg.velocity_change_accel_mps2 = 6.0;
+  const std::vector<int> all{0, 1, 2};
+  const std::vector<bool> none(3, false);
+  const CostMatrix c = buildFeTspMatrix(robot, v, all, none, std::nullopt, L, cfg);
+  EXPECT_NEAR(c(0, 1), 1.5, 1e-12);
+  EXPECT_NEAR(c(0, 2), 1.5 + 4.0 * std::sqrt(2.0) / 6.0, 1e-12);
+  EXPECT_NEAR(c(0, 3), 1.5 + 8.0 / 6.0, 1e-12);
+  EXPECT_NEAR(c(1, 3), 12.0 / 4.0, 1e-12);  // only the first leg starts from the robot's motion
+  EXPECT_EQ(solvePriorFreeTour(robot, v, L, cfg).viewpoints.front(), 0);
+  // Hovering, every direction costs the same: the time to reach full speed.
+  robot.velocity_world_mps.setZero();
+  const CostMatrix hovering = buildFeTspMatrix(robot, v, all, none, std::nullopt, L, cfg);
+  for (int k = 1; k <= 3; ++k) EXPECT_NEAR(hovering(0, k), 1.5 + 4.0 / 6.0, 1e-12);
+  // A guided tour keeps the paper's costs: its terminal gives the direction.
+  robot.velocity_world_mps = Eigen::Vector3d(4.0, 0.0, 0.0);
+  const Eigen::Vector2d terminal(0.0, 30.0);
+  const CostMatrix guided = buildFeTspMatrix(robot, v, all, none, terminal, L, cfg);
+  for (int k = 1; k <= 3; ++k) EXPECT_NEAR(guided(0, k), 1.5, 1e-12);
+  // An unknown velocity adds nothing rather than NaN.
+  robot.velocity_world_mps = Eigen::Vector3d(std::nan(""), 0.0, 0.0);
+  const CostMatrix unknown = buildFeTspMatrix(robot, v, all, none, std::nullopt, L, cfg);
+  for (int k = 1; k <= 3; ++k) EXPECT_NEAR(unknown(0, k), 1.5, 1e-12);
+}
+
 TEST(FeTsp, ConfigValidationNamesTheKey) {
   FeTspConfig cfg;
   cfg.v_max_mps = 0.0;
@@ -230,6 +264,15 @@ TEST(FeTsp, ConfigValidationNamesTheKey) {
     FAIL();
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("direction_change_cost_s_per_rad"), std::string::npos);
+  }
+  cfg = FeTspConfig();
+  EXPECT_DOUBLE_EQ(cfg.velocity_change_accel_mps2, 0.0);  // the paper's costs
+  cfg.velocity_change_accel_mps2 = std::nan("");
+  try {
+    cfg.validate();
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("velocity_change_accel_mps2"), std::string::npos);
   }
 }
 

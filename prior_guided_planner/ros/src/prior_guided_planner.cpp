@@ -109,6 +109,7 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("beta_e", e.planner.fe_tsp.beta_e);
   p.get("direction_change_cost_s_per_rad", e.planner.fe_tsp.direction_change_cost_s_per_rad);
   p.get("direction_min_speed_mps", e.planner.fe_tsp.direction_min_speed_mps);
+  p.get("velocity_change_accel_mps2", e.planner.fe_tsp.velocity_change_accel_mps2);
   p.get("mcts_exploration_constant", e.planner.mcts.exploration_constant);
   p.get("mcts_iterations", e.planner.mcts.iterations);
   p.get("mcts_threads", e.planner.mcts.threads);
