@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "efs_common/angles.h"
 #include "efs_common/config_check.h"
@@ -85,7 +86,7 @@ namespace {
 LocalTour solveOver(const RobotPose& robot, const std::vector<PlanViewpoint>& viewpoints,
                     std::vector<int> wanted, const std::vector<bool>& wanted_iso,
                     const std::optional<Eigen::Vector2d>& terminal, const PathLengthFn& L,
-                    const FeTspConfig& config) {
+                    const FeTspConfig& config, const std::vector<int>* warm_ids) {
   config.validate();
   if (!L) throw std::invalid_argument("FE-TSP: no path length oracle");
   LocalTour out;
@@ -105,8 +106,33 @@ LocalTour solveOver(const RobotPose& robot, const std::vector<PlanViewpoint>& vi
   out.has_terminal = terminal.has_value();
   if (terminal) out.terminal_world_m = *terminal;
   const CostMatrix c = buildFeTspMatrix(robot, viewpoints, sel, iso, terminal, L, config);
-  const AtspResult r = AtspSolver(config.atsp).solveTour(c);
   const int n = static_cast<int>(sel.size());
+  // The warm start: the robot, the viewpoints of the preferred order that are still selected,
+  // in that order, then the rest, then G_t and G_v. J(V, X_r) = 0 makes the closed tour a path
+  // with a free end, which is what the solver warm-starts.
+  std::vector<int> warm;
+  if (warm_ids && !warm_ids->empty()) {
+    std::unordered_map<int, int> node_of_id;
+    for (int k = 0; k < n; ++k) node_of_id.emplace(viewpoints[sel[k]].id, k + 1);
+    std::vector<bool> placed(n + 1, false);
+    warm.push_back(0);
+    for (int id : *warm_ids) {
+      const auto it = node_of_id.find(id);
+      if (it == node_of_id.end() || placed[it->second]) continue;
+      placed[it->second] = true;
+      warm.push_back(it->second);
+    }
+    for (int k = 1; k <= n; ++k)
+      if (!placed[k]) warm.push_back(k);
+    if (terminal) {
+      warm.push_back(n + 1);
+      warm.push_back(n + 2);
+    }
+  }
+  const AtspSolver solver(config.atsp);
+  const AtspResult r =
+      warm.size() > 1 ? solver.solveOpenPath(c, 0, AtspSolver::kFreeEnd, config.atsp.seed, &warm)
+                      : solver.solveTour(c);
   for (size_t k = 1; k < r.order.size(); ++k)
     if (r.order[k] >= 1 && r.order[k] <= n) out.viewpoints.push_back(sel[r.order[k] - 1]);
   out.feasible = r.feasible;
@@ -124,21 +150,24 @@ LocalTour solveOver(const RobotPose& robot, const std::vector<PlanViewpoint>& vi
 LocalTour solveFeTsp(const RobotPose& robot, const std::vector<PlanViewpoint>& viewpoints,
                      const std::vector<int>& isolated, const std::vector<int>& target,
                      const std::optional<Eigen::Vector2d>& terminal_world_m,
-                     const PathLengthFn& path_length_m, const FeTspConfig& config) {
+                     const PathLengthFn& path_length_m, const FeTspConfig& config,
+                     const std::vector<int>* warm_start_ids) {
   std::vector<int> wanted = isolated;
   std::vector<bool> iso(isolated.size(), true);
   for (int v : target)
     if (std::find(isolated.begin(), isolated.end(), v) == isolated.end())
       wanted.push_back(v), iso.push_back(false);
-  return solveOver(robot, viewpoints, wanted, iso, terminal_world_m, path_length_m, config);
+  return solveOver(robot, viewpoints, wanted, iso, terminal_world_m, path_length_m, config,
+                   warm_start_ids);
 }
 
 LocalTour solvePriorFreeTour(const RobotPose& robot, const std::vector<PlanViewpoint>& viewpoints,
-                             const PathLengthFn& path_length_m, const FeTspConfig& config) {
+                             const PathLengthFn& path_length_m, const FeTspConfig& config,
+                             const std::vector<int>* warm_start_ids) {
   std::vector<int> all(viewpoints.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
   return solveOver(robot, viewpoints, all, std::vector<bool>(all.size(), false), std::nullopt,
-                   path_length_m, config);
+                   path_length_m, config, warm_start_ids);
 }
 
 }  // namespace efs::planner

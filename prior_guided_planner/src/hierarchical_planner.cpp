@@ -135,10 +135,14 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) {
                        res.selection.target_viewpoints.end());
         res.tour = solveFeTsp(in.robot, in.viewpoints, res.selection.isolated_viewpoints,
                               res.selection.target_viewpoints, terminal,
-                              boundedLengths(in, robot_len, std::move(members)), config_.fe_tsp);
+                              boundedLengths(in, robot_len, std::move(members)), config_.fe_tsp,
+                              warmStart());
         res.mode_used = BaselineMode::kProposed;
         res.active_hypothesis_id = in.hypotheses[res.used_hypotheses[hk]].id;
-        if (!res.tour.viewpoints.empty()) return res;
+        if (!res.tour.viewpoints.empty()) {
+          rememberTour(in, res.tour);
+          return res;
+        }
       }
     }
   }
@@ -147,7 +151,17 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) {
   res.mode_used = BaselineMode::kPriorFree;
   res.active_hypothesis_id = -1;
   res.tour = priorFreeTour(in, robot_len);
+  rememberTour(in, res.tour);
   return res;
+}
+
+const std::vector<int>* HierarchicalPlanner::warmStart() const {
+  return config_.warm_start_tours && !last_tour_ids_.empty() ? &last_tour_ids_ : nullptr;
+}
+
+void HierarchicalPlanner::rememberTour(const PlanningInput& in, const LocalTour& tour) {
+  last_tour_ids_.clear();
+  for (int v : tour.viewpoints) last_tour_ids_.push_back(in.viewpoints[v].id);
 }
 
 double tourEdgeEstimate_m(const Eigen::Vector3d& a_world_m, double robot_to_a_m,
@@ -175,7 +189,8 @@ LocalTour HierarchicalPlanner::priorFreeTour(const PlanningInput& in,
     if (static_cast<int>(toured.size()) > config_.prior_free_max_viewpoints)
       toured.resize(config_.prior_free_max_viewpoints);
   } else if (unreachable.empty()) {
-    return solvePriorFreeTour(in.robot, in.viewpoints, in.path_length_m, config_.fe_tsp);
+    return solvePriorFreeTour(in.robot, in.viewpoints, in.path_length_m, config_.fe_tsp,
+                              warmStart());
   }
   std::vector<PlanViewpoint> sub;
   for (int i : toured) sub.push_back(in.viewpoints[i]);
@@ -184,7 +199,7 @@ LocalTour HierarchicalPlanner::priorFreeTour(const PlanningInput& in,
     return bounded(a == kRobotNode ? kRobotNode : toured[a],
                    b == kRobotNode ? kRobotNode : toured[b]);
   };
-  LocalTour t = solvePriorFreeTour(in.robot, sub, sub_len, config_.fe_tsp);
+  LocalTour t = solvePriorFreeTour(in.robot, sub, sub_len, config_.fe_tsp, warmStart());
   for (int& v : t.viewpoints) v = toured[v];
   for (int& v : t.unreachable_viewpoints) v = toured[v];
   t.unreachable_viewpoints.insert(t.unreachable_viewpoints.end(), unreachable.begin(),

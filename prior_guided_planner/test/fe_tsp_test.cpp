@@ -242,6 +242,53 @@ TEST(FeTsp, VelocityChangeCostIsTheTimeToTurnTheVelocity) {
   for (int k = 1; k <= 3; ++k) EXPECT_NEAR(unknown(0, k), 1.5, 1e-12);
 }
 
+// Viewpoints on a line, 8 on each side of a hovering robot: west first or east first cost the
+// same. The warm start (the last tour) decides, and a warm start worse than the optimum is
+// improved, not kept.
+TEST(FeTsp, AWarmStartKeepsAnEquallyGoodOrderAndImprovesAWorseOne) {
+  RobotPose robot;
+  robot.position_world_m = Eigen::Vector3d(0.0, 0.0, 1.0);
+  std::vector<PlanViewpoint> v;
+  for (int k = 1; k <= 8; ++k) {
+    v.push_back({100 + k, {-2.0 * k, 0.0, 1.0}, 0.0});  // west, ids 101..108
+    v.push_back({200 + k, {2.0 * k, 0.0, 1.0}, 0.0});   // east, ids 201..208
+  }
+  const auto L = euclidean(robot, v);
+  const FeTspConfig cfg;
+  ASSERT_GT(static_cast<int>(v.size()) + 1, cfg.atsp.exact_max_nodes);  // the heuristic solver
+  const double best_s = (16.0 + 32.0) / cfg.v_max_mps;  // 16 m one way, 32 m back and across
+  std::vector<int> west_first, east_first, zigzag;
+  for (int k = 1; k <= 8; ++k) west_first.push_back(100 + k), east_first.push_back(200 + k);
+  for (int k = 1; k <= 8; ++k) west_first.push_back(200 + k), east_first.push_back(100 + k);
+  for (int k = 1; k <= 8; ++k) zigzag.push_back(100 + k), zigzag.push_back(200 + k);
+  const auto firstX = [&](const LocalTour& t) {
+    return v[t.viewpoints.front()].position_world_m.x();
+  };
+
+  const LocalTour w = solvePriorFreeTour(robot, v, L, cfg, &west_first);
+  const LocalTour e = solvePriorFreeTour(robot, v, L, cfg, &east_first);
+  ASSERT_EQ(w.viewpoints.size(), v.size());
+  ASSERT_EQ(e.viewpoints.size(), v.size());
+  EXPECT_NEAR(w.cost_s, best_s, 1e-9);
+  EXPECT_NEAR(e.cost_s, best_s, 1e-9);
+  EXPECT_LT(firstX(w), 0.0);
+  EXPECT_GT(firstX(e), 0.0);
+  // Ids no longer present are skipped, and the rest still come after them.
+  std::vector<int> stale = east_first;
+  stale.insert(stale.begin(), 999);
+  EXPECT_GT(firstX(solvePriorFreeTour(robot, v, L, cfg, &stale)), 0.0);
+  const LocalTour z = solvePriorFreeTour(robot, v, L, cfg, &zigzag);
+  EXPECT_NEAR(z.cost_s, best_s, 1e-9);
+  // The FE-TSP with a terminal: the warm start ends at G_t, and the tour stays valid.
+  const Eigen::Vector2d terminal(20.0, 0.0);
+  std::vector<int> all(v.size());
+  for (size_t k = 0; k < v.size(); ++k) all[k] = static_cast<int>(k);
+  const LocalTour g = solveFeTsp(robot, v, {}, all, terminal, L, cfg, &zigzag);
+  EXPECT_TRUE(g.feasible);
+  EXPECT_EQ(g.viewpoints.size(), v.size());
+  EXPECT_LT(firstX(g), 0.0);  // west first, ending east towards the terminal
+}
+
 TEST(FeTsp, ConfigValidationNamesTheKey) {
   FeTspConfig cfg;
   cfg.v_max_mps = 0.0;

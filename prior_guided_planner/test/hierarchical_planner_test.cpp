@@ -247,6 +247,42 @@ TEST(HierarchicalPlanner, PriorFreeTourSearchesLengthsAmongTheNearestViewpointsO
   EXPECT_THROW(HierarchicalPlanner{c}, ConfigError);
 }
 
+// With warm_start_tours the last plan's order survives a plan in which the other order costs the
+// same: viewpoints on a line, 8 each side; the first plan is made 0.5 m east (east first is
+// shorter), the second from the middle (a tie). Without it, the second plan's answer does not
+// depend on the first.
+TEST(HierarchicalPlanner, AWarmStartKeepsTheLastTourThroughATie) {
+  PlanningInput in;
+  for (int k = 1; k <= 8; ++k) {
+    in.viewpoints.push_back(PlanViewpoint{100 + k, {-2.0 * k, 0.0, 1.0}, 0.0});
+    in.viewpoints.push_back(PlanViewpoint{200 + k, {2.0 * k, 0.0, 1.0}, 0.0});
+  }
+  const auto vps = in.viewpoints;
+  in.path_length_m = [&](int a, int b) {
+    const Eigen::Vector3d pa =
+        a == kRobotNode ? in.robot.position_world_m : vps[a].position_world_m;
+    const Eigen::Vector3d pb =
+        b == kRobotNode ? in.robot.position_world_m : vps[b].position_world_m;
+    return (pa - pb).norm();
+  };
+  const auto firstXAfter = [&](bool warm, double first_x_m) {
+    HierarchicalPlannerConfig c;
+    c.warm_start_tours = warm;
+    HierarchicalPlanner planner(c);
+    in.robot.position_world_m = Eigen::Vector3d(first_x_m, 0.0, 1.0);
+    const PlanningResult first = planner.plan(in);
+    EXPECT_EQ(first.status, PlanningStatus::kOk);
+    EXPECT_EQ(vps[first.tour.viewpoints.front()].position_world_m.x() > 0.0, first_x_m > 0.0);
+    in.robot.position_world_m = Eigen::Vector3d(0.0, 0.0, 1.0);
+    const PlanningResult tie = planner.plan(in);
+    EXPECT_EQ(tie.tour.viewpoints.size(), vps.size());
+    return vps[tie.tour.viewpoints.front()].position_world_m.x();
+  };
+  EXPECT_GT(firstXAfter(true, 0.5), 0.0);
+  EXPECT_LT(firstXAfter(true, -0.5), 0.0);
+  EXPECT_EQ(firstXAfter(false, 0.5) > 0.0, firstXAfter(false, -0.5) > 0.0);
+}
+
 // The guided tour bounds its searches likewise: with 24 viewpoints around the first guidepoint
 // and the robot beside them, only pairs among the 6 nearest are searched, the rest estimated.
 TEST(HierarchicalPlanner, GuidedTourSearchesLengthsAmongTheNearestViewpointsOnly) {

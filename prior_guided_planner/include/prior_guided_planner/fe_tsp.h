@@ -83,13 +83,18 @@ CostMatrix buildFeTspMatrix(const RobotPose& robot, const std::vector<PlanViewpo
                             const PathLengthFn& path_length_m, const FeTspConfig& config);
 
 /// FE-TSP over the isolated and target viewpoints to the terminal (std::nullopt: free end).
+/// `warm_start_ids`, if given and not empty, are viewpoint ids in a preferred order (the last
+/// tour): the solver starts from them, the others after them, and only a tour at most as
+/// costly replaces that order.
 LocalTour solveFeTsp(const RobotPose& robot, const std::vector<PlanViewpoint>& viewpoints,
                      const std::vector<int>& isolated, const std::vector<int>& target,
                      const std::optional<Eigen::Vector2d>& terminal_world_m,
-                     const PathLengthFn& path_length_m, const FeTspConfig& config);
+                     const PathLengthFn& path_length_m, const FeTspConfig& config,
+                     const std::vector<int>* warm_start_ids = nullptr);
 
 /// Prior-free fallback: ATSP over all viewpoints from the robot, same cost model, free end.
 LocalTour solvePriorFreeTour(const RobotPose& robot, const std::vector<PlanViewpoint>& viewpoints,
-                             const PathLengthFn& path_length_m, const FeTspConfig& config);
+                             const PathLengthFn& path_length_m, const FeTspConfig& config,
+                             const std::vector<int>* warm_start_ids = nullptr);
 
 }  // namespace efs::planner
