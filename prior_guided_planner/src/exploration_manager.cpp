@@ -232,19 +232,15 @@ std::optional<ReplanReason> ExplorationManager::replanDue(double time_s,
   if (target_.goal_world_m != target_.viewpoint_world_m &&
       (robot.position_world_m - target_.goal_world_m).norm() <= 0.5 * goal_distance_at_plan_m_)
     return ReplanReason::kHalfWay;
-  const bool period = time_s - *last_plan_time_s_ >= config_.replan_period_s;
-  // An opening stays the target until the next periodic plan looks again.
-  if (opening_look_at_.count(*target_.goal_viewpoint_id)) {
-    if (period) return ReplanReason::kPeriod;
-    return std::nullopt;
-  }
+  // An opening stays the target until the next periodic plan looks again; a viewpoint is gone
+  // once its frontier was observed or it became unsafe.
+  const int id = *target_.goal_viewpoint_id;
+  bool alive = opening_look_at_.count(id) > 0;
   for (const auto& [cluster, vps] : viewpoint_manager_.byCluster())
-    for (const Viewpoint& v : vps)
-      if (v.id == *target_.goal_viewpoint_id) {
-        if (period) return ReplanReason::kPeriod;
-        return std::nullopt;
-      }
-  return ReplanReason::kTargetGone;  // its frontier was observed or it became unsafe
+    for (const Viewpoint& v : vps) alive = alive || v.id == id;
+  if (!alive) return ReplanReason::kTargetGone;
+  if (time_s - *last_plan_time_s_ >= config_.replan_period_s) return ReplanReason::kPeriod;
+  return std::nullopt;
 }
 
 void ExplorationManager::replan(double time_s, const RobotPose& robot) {

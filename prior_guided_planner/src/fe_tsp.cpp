@@ -109,8 +109,10 @@ LocalTour solveOver(const RobotPose& robot, const std::vector<PlanViewpoint>& vi
   const int n = static_cast<int>(sel.size());
   // The warm start: the robot, the viewpoints of the preferred order that are still selected,
   // in that order, then the rest, then G_t and G_v. J(V, X_r) = 0 makes the closed tour a path
-  // with a free end, which is what the solver warm-starts.
+  // with a free end, which is what the solver warm-starts. When none of the preferred order is
+  // left the solver starts from the assignment relaxation as without a warm start.
   std::vector<int> warm;
+  int kept = 0;
   if (warm_ids && !warm_ids->empty()) {
     std::unordered_map<int, int> node_of_id;
     for (int k = 0; k < n; ++k) node_of_id.emplace(viewpoints[sel[k]].id, k + 1);
@@ -121,6 +123,7 @@ LocalTour solveOver(const RobotPose& robot, const std::vector<PlanViewpoint>& vi
       if (it == node_of_id.end() || placed[it->second]) continue;
       placed[it->second] = true;
       warm.push_back(it->second);
+      ++kept;
     }
     for (int k = 1; k <= n; ++k)
       if (!placed[k]) warm.push_back(k);
@@ -131,8 +134,8 @@ LocalTour solveOver(const RobotPose& robot, const std::vector<PlanViewpoint>& vi
   }
   const AtspSolver solver(config.atsp);
   const AtspResult r =
-      warm.size() > 1 ? solver.solveOpenPath(c, 0, AtspSolver::kFreeEnd, config.atsp.seed, &warm)
-                      : solver.solveTour(c);
+      kept > 0 ? solver.solveOpenPath(c, 0, AtspSolver::kFreeEnd, config.atsp.seed, &warm)
+               : solver.solveTour(c);
   for (size_t k = 1; k < r.order.size(); ++k)
     if (r.order[k] >= 1 && r.order[k] <= n) out.viewpoints.push_back(sel[r.order[k] - 1]);
   out.feasible = r.feasible;

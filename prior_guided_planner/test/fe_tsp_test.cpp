@@ -277,6 +277,10 @@ TEST(FeTsp, AWarmStartKeepsAnEquallyGoodOrderAndImprovesAWorseOne) {
   std::vector<int> stale = east_first;
   stale.insert(stale.begin(), 999);
   EXPECT_GT(firstX(solvePriorFreeTour(robot, v, L, cfg, &stale)), 0.0);
+  // None of them present: the same tour as without a warm start.
+  const std::vector<int> gone{998, 999};
+  EXPECT_EQ(solvePriorFreeTour(robot, v, L, cfg, &gone).viewpoints,
+            solvePriorFreeTour(robot, v, L, cfg).viewpoints);
   const LocalTour z = solvePriorFreeTour(robot, v, L, cfg, &zigzag);
   EXPECT_NEAR(z.cost_s, best_s, 1e-9);
   // The FE-TSP with a terminal: the warm start ends at G_t, and the tour stays valid.
