@@ -235,10 +235,14 @@ std::optional<ReplanReason> ExplorationManager::replanDue(double time_s,
   // An opening stays the target until the next periodic plan looks again; a viewpoint is gone
   // once its frontier was observed or it became unsafe.
   const int id = *target_.goal_viewpoint_id;
-  bool alive = opening_look_at_.count(id) > 0;
-  for (const auto& [cluster, vps] : viewpoint_manager_.byCluster())
-    for (const Viewpoint& v : vps) alive = alive || v.id == id;
-  if (!alive) return ReplanReason::kTargetGone;
+  const auto alive = [&] {
+    if (opening_look_at_.count(id)) return true;
+    for (const auto& [cluster, vps] : viewpoint_manager_.byCluster())
+      for (const Viewpoint& v : vps)
+        if (v.id == id) return true;
+    return false;
+  };
+  if (!alive()) return ReplanReason::kTargetGone;
   if (time_s - *last_plan_time_s_ >= config_.replan_period_s) return ReplanReason::kPeriod;
   return std::nullopt;
 }

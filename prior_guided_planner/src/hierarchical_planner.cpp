@@ -160,6 +160,7 @@ const std::vector<int>* HierarchicalPlanner::warmStart() const {
 }
 
 void HierarchicalPlanner::rememberTour(const PlanningInput& in, const LocalTour& tour) {
+  if (!config_.warm_start_tours) return;
   last_tour_ids_.clear();
   for (int v : tour.viewpoints) last_tour_ids_.push_back(in.viewpoints[v].id);
 }
