@@ -1,15 +1,19 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include "exploration_mission/plan_log.h"
 
+#include <algorithm>
 #include <array>
 #include <string>
 #include <vector>
 
 namespace efs::mission {
 
+namespace {
+// In the order of planner::GuidepointState (record() counts the states the same way).
+constexpr char kLetter[] = "UEXO";
+}  // namespace
+
 std::string guidepointsText(const planner::HypothesisAttachment& attachment) {
-  // In the order of planner::GuidepointState (record() counts the states the same way).
-  constexpr char kLetter[] = "UEXO";
   std::string text;
   for (size_t j = 0; j < attachment.states.size(); ++j) {
     if (j > 0) text += ' ';
@@ -19,12 +23,46 @@ std::string guidepointsText(const planner::HypothesisAttachment& attachment) {
   return text;
 }
 
+FirstGuidepointSwitch firstGuidepointSwitch(const planner::PlanningResult& plan,
+                                            std::optional<int> previous_first,
+                                            int previous_hypothesis_id) {
+  FirstGuidepointSwitch out;
+  const int hk = plan.selection.hypothesis;
+  if (hk < 0 || static_cast<size_t>(hk) >= plan.sequences.size() ||
+      static_cast<size_t>(hk) >= plan.attachments.size() ||
+      plan.selection.guidepoint_sequence.empty())
+    return out;
+  out.first = plan.selection.guidepoint_sequence.front();
+  if (!previous_first || *previous_first == *out.first ||
+      previous_hypothesis_id != plan.active_hypothesis_id)
+    return out;
+  const planner::HypothesisAttachment& att = plan.attachments[hk];
+  if (*previous_first < 0 || static_cast<size_t>(*previous_first) >= att.states.size()) return out;
+  out.previous_state = att.states[*previous_first];
+  const planner::HypothesisSequence& hs = plan.sequences[hk];
+  const std::vector<int>& nodes = hs.problem.node_guidepoint;
+  const auto node = [&](int g) {
+    const auto it = std::find(nodes.begin() + 1, nodes.end(), g);
+    return it == nodes.end() ? -1 : static_cast<int>(it - nodes.begin());
+  };
+  const int prev = node(*previous_first), chosen = node(*out.first);
+  const std::vector<double>& by_first = hs.mcts.best_length_by_first;
+  if (prev < 1 || chosen < 1 || static_cast<size_t>(std::max(prev, chosen)) >= by_first.size() ||
+      !hs.problem.problem.exploring[prev] || !(by_first[prev] < planner::kUnreachable) ||
+      !(by_first[chosen] < planner::kUnreachable))
+    return out;
+  out.gap_m = by_first[prev] - by_first[chosen];
+  out.first_leg_gap_m = hs.problem.problem.cost(0, prev) - hs.problem.problem.cost(0, chosen);
+  return out;
+}
+
 PlanLog::PlanLog(std::ostream& out) : out_(out) {
   out_ << "time_s,x_m,y_m,z_m,state,mode,active_hypothesis,hypotheses,viewpoints,unexplored,"
           "exploring,explored,outside,target_group,isolated,next_guidepoint_x_m,"
           "next_guidepoint_y_m,terminal_x_m,terminal_y_m,goal_x_m,goal_y_m,goal_z_m,viewpoint_x_m,"
           "viewpoint_y_m,viewpoint_z_m,tour,guidepoints,replan_reason,target_viewpoint_id,"
-          "previous_target_rank\n";
+          "previous_target_rank,first_guidepoint,previous_first_state,first_switch_gap_m,"
+          "first_switch_leg_gap_m\n";
 }
 
 void PlanLog::record(double time_s, const Eigen::Vector3d& robot,
@@ -75,8 +113,22 @@ void PlanLog::record(double time_s, const Eigen::Vector3d& robot,
       }
     }
   }
+  const FirstGuidepointSwitch sw =
+      firstGuidepointSwitch(*plan, previous_first_, previous_hypothesis_id_);
+  const auto number = [&](const std::optional<double>& v) {
+    out_ << ',';
+    if (v) out_ << *v;
+  };
+  out_ << ',';
+  if (sw.first) out_ << *sw.first;
+  out_ << ',';
+  if (sw.previous_state) out_ << kLetter[static_cast<int>(*sw.previous_state)];
+  number(sw.gap_m);
+  number(sw.first_leg_gap_m);
   out_ << '\n';
   previous_target_id_ = target.goal_viewpoint_id;
+  previous_first_ = sw.first;
+  previous_hypothesis_id_ = plan->active_hypothesis_id;
   ++rows_;
 }
 

@@ -83,6 +83,8 @@ TEST(PlanLog, OneLinePerPlanWithTheHeadersColumns) {
   EXPECT_EQ(column(header, row, "replan_reason"), "first_plan");
   EXPECT_EQ(column(header, row, "target_viewpoint_id"), std::to_string(*t.goal_viewpoint_id));
   EXPECT_EQ(column(header, row, "previous_target_rank"), "");  // there was no previous target
+  EXPECT_EQ(column(header, row, "first_guidepoint"), "");      // no guidance
+  EXPECT_EQ(column(header, row, "first_switch_gap_m"), "");
 }
 
 TEST(PlanLog, SaysWhyEachPlanRanAndWhereThePreviousTargetWent) {
@@ -131,6 +133,69 @@ TEST(PlanLog, GuidepointsColumnGivesEachStateAndItsAttachedViewpoints) {
   a.attached = {{0, 4, 7}, {}, {}, {}};
   EXPECT_EQ(guidepointsText(a), "E3 X0 U0 O0");
   EXPECT_EQ(guidepointsText(planner::HypothesisAttachment{}), "");
+}
+
+// One hypothesis (id 11) over guidepoints 0-7: 3 and 5 exploring, 7 unexplored, 6 explored. The
+// sequence selected starts at 3; starting at 5 the MCTS found one 4 m longer.
+planner::PlanningResult guidedPlan() {
+  using planner::GuidepointState;
+  planner::PlanningResult plan;
+  plan.active_hypothesis_id = 11;
+  plan.used_hypotheses = {0};
+  planner::HypothesisAttachment att;
+  att.states.assign(8, GuidepointState::kUnexplored);
+  att.states[3] = att.states[5] = GuidepointState::kExploring;
+  att.states[6] = GuidepointState::kExplored;
+  plan.attachments = {att};
+  planner::HypothesisSequence hs;
+  hs.problem.node_guidepoint = {-1, 3, 5, 7};
+  hs.problem.problem.cost = planner::CostMatrix(4, 0.0);
+  hs.problem.problem.cost(0, 1) = 10.0;
+  hs.problem.problem.cost(0, 2) = 13.5;
+  hs.problem.problem.exploring = {false, true, true, false};
+  hs.mcts.best_length_by_first = {planner::kUnreachable, 100.0, 104.0, planner::kUnreachable};
+  hs.mcts.sequence = {1, 2, 3};
+  hs.mcts.length = 100.0;
+  plan.sequences = {hs};
+  plan.selection.hypothesis = 0;
+  plan.selection.guidepoint_sequence = {3, 5, 7};
+  return plan;
+}
+
+TEST(PlanLog, FirstGuidepointSwitchWeighsTheOneLeftAgainstTheOneTaken) {
+  const planner::PlanningResult plan = guidedPlan();
+  // No previous line, or the same first guidepoint: no switch.
+  for (std::optional<int> previous : {std::optional<int>(), std::optional<int>(3)}) {
+    const FirstGuidepointSwitch sw = firstGuidepointSwitch(plan, previous, 11);
+    ASSERT_TRUE(sw.first);
+    EXPECT_EQ(*sw.first, 3);
+    EXPECT_FALSE(sw.previous_state);
+    EXPECT_FALSE(sw.gap_m);
+  }
+  // From 5, still exploring: the MCTS found the sequence from 5 4 m longer, 3.5 m of it in the
+  // first leg.
+  const FirstGuidepointSwitch near_tie = firstGuidepointSwitch(plan, 5, 11);
+  ASSERT_TRUE(near_tie.previous_state);
+  EXPECT_EQ(*near_tie.previous_state, planner::GuidepointState::kExploring);
+  ASSERT_TRUE(near_tie.gap_m && near_tie.first_leg_gap_m);
+  EXPECT_DOUBLE_EQ(*near_tie.gap_m, 4.0);
+  EXPECT_DOUBLE_EQ(*near_tie.first_leg_gap_m, 3.5);
+  // Under another hypothesis the indices mean other places: nothing is compared.
+  const FirstGuidepointSwitch other = firstGuidepointSwitch(plan, 5, 12);
+  EXPECT_FALSE(other.previous_state);
+  EXPECT_FALSE(other.gap_m);
+  // A previous first that can no longer come first (unexplored: no viewpoint of its own; or
+  // explored, out of the problem): its state, and no gap.
+  const FirstGuidepointSwitch unexplored = firstGuidepointSwitch(plan, 7, 11);
+  ASSERT_TRUE(unexplored.previous_state);
+  EXPECT_EQ(*unexplored.previous_state, planner::GuidepointState::kUnexplored);
+  EXPECT_FALSE(unexplored.gap_m);
+  const FirstGuidepointSwitch explored = firstGuidepointSwitch(plan, 6, 11);
+  ASSERT_TRUE(explored.previous_state);
+  EXPECT_EQ(*explored.previous_state, planner::GuidepointState::kExplored);
+  EXPECT_FALSE(explored.first_leg_gap_m);
+  // No hypothesis guided: no first guidepoint.
+  EXPECT_FALSE(firstGuidepointSwitch(planner::PlanningResult{}, 5, -1).first);
 }
 
 }  // namespace

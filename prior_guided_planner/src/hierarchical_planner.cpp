@@ -19,6 +19,7 @@ void HierarchicalPlannerConfig::validate() const {
   requireInRange("min_confidence", min_confidence, 0.0, 1e9);
   requireInRange("tour_searched_viewpoints", tour_searched_viewpoints, 1, 100000);
   requireInRange("prior_free_max_viewpoints", prior_free_max_viewpoints, 1, 100000);
+  requireInRange("keep_first_guidepoint_fraction", keep_first_guidepoint_fraction, 0.0, 1.0);
 }
 
 HierarchicalPlanner::HierarchicalPlanner(HierarchicalPlannerConfig config)
@@ -120,11 +121,14 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) {
         hs.mcts = mcts_.solve(hs.problem.problem, config_.mcts.seed + 7919 * k);
         if (config_.reuse_sequences) memo_.remember(hs.problem, hs.mcts);
       }
+      if (const auto kept = last_first_guidepoint_.find(h.id); kept != last_first_guidepoint_.end())
+        creditKeptFirstGuidepoint(hs, kept->second, config_.keep_first_guidepoint_fraction);
       res.sequences.push_back(std::move(hs));
     }
     if (!res.used_hypotheses.empty()) {
       res.groups = groupViewpoints(res.attachments, nv);
       res.selection = selectPriorSequence(res.groups, res.sequences, robot_len);
+      rememberFirstGuidepoints(in, res);
       if (res.selection.group >= 0 && res.selection.hypothesis >= 0) {
         const int hk = res.selection.hypothesis;
         std::optional<Eigen::Vector2d> terminal;
@@ -153,6 +157,24 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) {
   res.tour = priorFreeTour(in, robot_len);
   rememberTour(in, res.tour);
   return res;
+}
+
+void HierarchicalPlanner::rememberFirstGuidepoints(const PlanningInput& in,
+                                                   const PlanningResult& res) {
+  if (!(config_.keep_first_guidepoint_fraction > 0.0)) return;
+  last_first_guidepoint_.clear();
+  for (size_t k = 0; k < res.sequences.size(); ++k) {
+    const HypothesisSequence& hs = res.sequences[k];
+    const int id = in.hypotheses[res.used_hypotheses[k]].id;
+    // The guiding hypothesis' first guidepoint is the one the vehicle was sent to, which with
+    // several hypotheses need not begin that hypothesis' own best sequence.
+    if (static_cast<int>(k) == res.selection.hypothesis &&
+        !res.selection.guidepoint_sequence.empty()) {
+      last_first_guidepoint_[id] = res.selection.guidepoint_sequence.front();
+    } else if (!hs.mcts.sequence.empty()) {
+      last_first_guidepoint_[id] = hs.problem.node_guidepoint[hs.mcts.sequence.front()];
+    }
+  }
 }
 
 const std::vector<int>* HierarchicalPlanner::warmStart() const {

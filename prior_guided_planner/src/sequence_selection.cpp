@@ -59,6 +59,23 @@ GuidepointProblem buildGuidepointProblem(const HypothesisAttachment& att,
   return out;
 }
 
+void creditKeptFirstGuidepoint(HypothesisSequence& hs, int kept, double fraction) {
+  MctsResult& r = hs.mcts;
+  const std::vector<int>& nodes = hs.problem.node_guidepoint;
+  const auto it = std::find(nodes.begin() + std::min<size_t>(1, nodes.size()), nodes.end(), kept);
+  if (!(fraction > 0.0) || it == nodes.end() || !(r.length < kUnreachable)) return;
+  const size_t node = static_cast<size_t>(it - nodes.begin());
+  if (node >= r.best_length_by_first.size() || node >= r.best_sequence_by_first.size() ||
+      !hs.problem.problem.exploring[node] || !(r.best_length_by_first[node] < kUnreachable) ||
+      r.best_sequence_by_first[node].empty())
+    return;
+  r.best_length_by_first[node] -= fraction * r.length;
+  if (r.best_length_by_first[node] < r.length) {
+    r.length = r.best_length_by_first[node];
+    r.sequence = r.best_sequence_by_first[node];
+  }
+}
+
 bool ViewpointGroup::isolated() const {
   return std::all_of(key.begin(), key.end(), [](int g) { return g < 0; });
 }

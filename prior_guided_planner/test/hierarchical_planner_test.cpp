@@ -283,6 +283,40 @@ TEST(HierarchicalPlanner, AWarmStartKeepsTheLastTourThroughATie) {
   EXPECT_EQ(firstXAfter(false, 0.5) > 0.0, firstXAfter(false, -0.5) > 0.0);
 }
 
+// keep_first_guidepoint_fraction: a corridor of 5 guidepoints (x = 0 .. 80) with work at both
+// ends and the robot near the middle. 0.5 m east of it the east end comes first; 0.5 m west the
+// west end is 1 m shorter in about 119 m, a near tie: with 3 % the east end stays first, without
+// it the planner turns round. 5 m west (a 10 m gap) it turns round either way.
+TEST(HierarchicalPlanner, TheLastFirstGuidepointStaysThroughANearTie) {
+  const GuidepointPrior prior = corridor(5);
+  Scene sc;
+  sc.vps = {PlanViewpoint{0, {1.0, 0.0, 1.0}, 0.0}, PlanViewpoint{1, {79.0, 0.0, 1.0}, 0.0}};
+  const auto firstAfter = [&](double fraction, double second_x_m) {
+    HierarchicalPlannerConfig c;
+    c.keep_first_guidepoint_fraction = fraction;
+    HierarchicalPlanner planner(c);
+    sc.robot.position_world_m = {40.5, 0.0, 1.0};
+    PlanningInput in = sc.input();
+    in.prior = &prior;
+    in.hypotheses = {Hypothesis{4, Sim2(), 1.0}};
+    const PlanningResult first = planner.plan(in);
+    EXPECT_EQ(first.selection.guidepoint_sequence.front(), 4);
+    sc.robot.position_world_m = {second_x_m, 0.0, 1.0};
+    in = sc.input();
+    in.prior = &prior;
+    in.hypotheses = {Hypothesis{4, Sim2(), 1.0}};
+    const PlanningResult second = planner.plan(in);
+    EXPECT_EQ(second.mode_used, BaselineMode::kProposed);
+    return second.selection.guidepoint_sequence.front();
+  };
+  EXPECT_EQ(firstAfter(0.03, 39.5), 4);
+  EXPECT_EQ(firstAfter(0.0, 39.5), 0);
+  EXPECT_EQ(firstAfter(0.03, 35.5), 0);
+  HierarchicalPlannerConfig bad;
+  bad.keep_first_guidepoint_fraction = -0.1;
+  EXPECT_THROW(bad.validate(), ConfigError);
+}
+
 // The guided tour bounds its searches likewise: with 24 viewpoints around the first guidepoint
 // and the robot beside them, only pairs among the 6 nearest are searched, the rest estimated.
 TEST(HierarchicalPlanner, GuidedTourSearchesLengthsAmongTheNearestViewpointsOnly) {

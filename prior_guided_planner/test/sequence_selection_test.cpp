@@ -43,6 +43,39 @@ std::vector<ViewpointGroup> groups() {
   return groupViewpoints({att({0, 0, 1, -1}, 2), att({0, 0, -1, -1}, 2)}, 4);
 }
 
+// The kept first guidepoint's sequence is credited with a share of the best length: enough to
+// win a near tie, not a clear loss; a guidepoint that is no longer exploring gets nothing.
+TEST(SequenceSelection, AKeptFirstGuidepointWinsANearTieOnly) {
+  const auto credited = [](double first0, double first1, int kept, double fraction) {
+    HypothesisSequence h = seq(1.0, first0, first1);
+    h.problem.problem.exploring = {false, true, true};
+    creditKeptFirstGuidepoint(h, kept, fraction);
+    return h;
+  };
+  // G1 first is 100 m, G0 first 102 m; the last plan went to G0; 3 % of 100 m is 3 m.
+  const HypothesisSequence kept = credited(102.0, 100.0, 0, 0.03);
+  EXPECT_EQ(kept.mcts.sequence, (std::vector<int>{1, 2}));
+  EXPECT_DOUBLE_EQ(kept.mcts.length, 99.0);
+  EXPECT_DOUBLE_EQ(kept.mcts.best_length_by_first[1], 99.0);
+  EXPECT_DOUBLE_EQ(kept.mcts.best_length_by_first[2], 100.0);
+  // 110 m against 100 m: 3 m do not make up the difference.
+  const HypothesisSequence lost = credited(110.0, 100.0, 0, 0.03);
+  EXPECT_EQ(lost.mcts.sequence, (std::vector<int>{2, 1}));
+  EXPECT_DOUBLE_EQ(lost.mcts.length, 100.0);
+  EXPECT_DOUBLE_EQ(lost.mcts.best_length_by_first[1], 107.0);
+  // Kept guidepoint unknown to the problem, no fraction: unchanged.
+  for (const HypothesisSequence& h :
+       {credited(102.0, 100.0, 7, 0.03), credited(102.0, 100.0, 0, 0.0)}) {
+    EXPECT_EQ(h.mcts.sequence, (std::vector<int>{2, 1}));
+    EXPECT_DOUBLE_EQ(h.mcts.best_length_by_first[1], 102.0);
+  }
+  // G0 no longer exploring (the root cannot start there): unchanged.
+  HypothesisSequence idle = seq(1.0, 102.0, 100.0);
+  idle.problem.problem.exploring = {false, false, true};
+  creditKeptFirstGuidepoint(idle, 0, 0.03);
+  EXPECT_EQ(idle.mcts.sequence, (std::vector<int>{2, 1}));
+}
+
 TEST(SequenceSelection, GroupVps) {
   const auto g = groups();
   ASSERT_EQ(g.size(), 3u);

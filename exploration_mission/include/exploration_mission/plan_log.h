@@ -22,6 +22,24 @@ namespace efs::mission {
 /// flight around; this column shows which one it was.
 std::string guidepointsText(const planner::HypothesisAttachment& attachment);
 
+/// How the guidance's first guidepoint changed from one plan to the next, by the MCTS's own
+/// numbers: a flight whose next guidepoint flips A-B-A is read from these, a near tie (a gap of
+/// a few metres in a sequence of hundreds) against a guidepoint that lost its viewpoints.
+struct FirstGuidepointSwitch {
+  /// The first guidepoint of the selected sequence (guidepoint index), if a hypothesis guided.
+  std::optional<int> first;
+  /// Filled only when the first guidepoint differs from `previous_first` under the same
+  /// hypothesis: the previous one's state now, and, while it can still come first (a node of
+  /// the sequencing problem that the root reaches), how much longer the best sequence starting
+  /// there is than the selected one [m] and how much longer its first leg, the mean path from
+  /// the robot to its viewpoints [m].
+  std::optional<planner::GuidepointState> previous_state;
+  std::optional<double> gap_m, first_leg_gap_m;
+};
+FirstGuidepointSwitch firstGuidepointSwitch(const planner::PlanningResult& plan,
+                                            std::optional<int> previous_first,
+                                            int previous_hypothesis_id);
+
 class PlanLog {
  public:
   /// Writes the header line.
@@ -36,6 +54,9 @@ class PlanLog {
   size_t rows_ = 0;
   /// The goal viewpoint of the last line, for the `previous_target_rank` column.
   std::optional<int> previous_target_id_;
+  /// The first guidepoint of the last line and its hypothesis, for the `first_switch_*` columns.
+  std::optional<int> previous_first_;
+  int previous_hypothesis_id_ = -1;
 };
 
 }  // namespace efs::mission

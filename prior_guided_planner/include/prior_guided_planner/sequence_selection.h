@@ -42,6 +42,16 @@ struct HypothesisSequence {
   MctsResult mcts;
 };
 
+/// Credits the best sequence starting at guidepoint `kept` (the last plan's first guidepoint)
+/// with `fraction` of the best sequence's length: its best_length_by_first is lowered by that
+/// much and, if it is then the shortest, it becomes the result's sequence and length. Nothing
+/// changes when `kept` is not a node the root expands to (no longer exploring, or gone) or has
+/// no sequence. The MCTS prices guidepoints as points, so leaving a group half toured for
+/// another whose sequence is a metre or two shorter costs what its numbers never see: the
+/// vehicle turns, and comes back for the rest. Lengths stay credited for CalcRisk, which then
+/// compares the kept group with the same margin.
+void creditKeptFirstGuidepoint(HypothesisSequence& sequence, int kept, double fraction);
+
 /// Viewpoints sharing exactly the same attachments under all hypotheses (key[j] = guidepoint
 /// index under hypothesis j, or -1).
 struct ViewpointGroup {
