@@ -12,6 +12,7 @@ void AttachmentConfig::validate() const {
   requirePositive("attachment.rho_m", rho_m);
   requirePositive("attachment.influence_radius_m", influence_radius_m);
   requireInRange("attachment.outside_margin_m", outside_margin_m, 0.0, 1e9);
+  requireInRange("attachment.seen_fraction", seen_fraction, 0.0, 1.0);
 }
 
 const char* toString(GuidepointState s) {
@@ -52,8 +53,8 @@ HypothesisAttachment attachViewpoints(const Hypothesis& hypothesis, const Guidep
       if (d > config.outside_margin_m) out.states[j] = GuidepointState::kOutside, active[j] = 0;
     }
   }
-  for (int i = 0; i < nv; ++i) {
-    const Eigen::Vector2d p = viewpoints[i].position_world_m.head<2>();
+  // The guidepoint a point in the world attaches to, by the paper's rule; -1 for none.
+  const auto nearest = [&](const Eigen::Vector2d& p) {
     double d1 = std::numeric_limits<double>::infinity(), d2 = d1;
     int j1 = -1;
     for (int j = 0; j < ng; ++j) {
@@ -64,14 +65,31 @@ HypothesisAttachment attachViewpoints(const Hypothesis& hypothesis, const Guidep
       else if (d < d2)
         d2 = d;
     }
-    if (j1 >= 0 && d1 < std::min(config.rho_m, d2)) {
-      out.attached_to[i] = j1;
-      out.attached[j1].push_back(i);
+    return j1 >= 0 && d1 < std::min(config.rho_m, d2) ? j1 : -1;
+  };
+  for (int i = 0; i < nv; ++i) {
+    const int j = nearest(viewpoints[i].position_world_m.head<2>());
+    if (j < 0) continue;
+    out.attached_to[i] = j;
+    out.attached[j].push_back(i);
+  }
+  // Per guidepoint, its predicted free samples and how many of them are well observed.
+  std::vector<int> samples(ng, 0), seen(ng, 0);
+  if (config.seen_fraction > 0.0 && observation) {
+    const double r = 0.5 * hypothesis.T_world_sketch.scale * prior.predicted_free_cell_m;
+    for (const Eigen::Vector2d& s : prior.predicted_free_sketch_m) {
+      const Eigen::Vector2d w = hypothesis.T_world_sketch.apply(s);
+      const int j = nearest(w);
+      if (j < 0) continue;
+      ++samples[j];
+      seen[j] += observation(w, r) == ObservationLevel::kWellObserved;
     }
   }
   for (int j = 0; j < ng; ++j) {
     if (!active[j]) continue;
-    if (!out.attached[j].empty()) {
+    if (samples[j] > 0 && seen[j] >= config.seen_fraction * samples[j]) {
+      out.states[j] = GuidepointState::kExplored;
+    } else if (!out.attached[j].empty()) {
       out.states[j] = GuidepointState::kExploring;
     } else if (observation && observation(out.guidepoints_world_m[j], config.influence_radius_m) ==
                                   ObservationLevel::kWellObserved) {

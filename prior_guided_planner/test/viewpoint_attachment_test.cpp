@@ -72,6 +72,40 @@ TEST(ViewpointAttachment, StatesFromObservations) {
   EXPECT_EQ(a.states[2], GuidepointState::kUnexplored);
 }
 
+// seen_fraction: G0's free space is sampled at x = -4 .. 5 sketch m (world 2 .. 20), G1's at
+// 26 .. 35 (world 62 .. 80); a viewpoint is attached to each. All of G0's samples and 8 of G1's
+// 10 lie under well observed surface: with 0.9, G0 is explored despite its viewpoint, G1 (80 %)
+// still exploring; with 0.8 both are explored; with 0 (the paper) both exploring.
+TEST(ViewpointAttachment, AGuidepointWhoseFreeSpaceIsSeenIsExploredWhateverIsLeft) {
+  GuidepointPrior prior = threeGuidepoints();
+  prior.predicted_free_cell_m = 1.0;
+  for (int k = 0; k < 10; ++k) {
+    prior.predicted_free_sketch_m.emplace_back(-4.0 + k, 0.0);
+    prior.predicted_free_sketch_m.emplace_back(26.0 + k, 0.0);
+  }
+  const std::vector<PlanViewpoint> vps = {vp(0, 12, 5), vp(1, 65, 5)};
+  const ObservationQuery obs = [](const Eigen::Vector2d& c, double r) {
+    if (r >= 5.0) return ObservationLevel::kNone;  // the paper's influence radius: nothing
+    EXPECT_DOUBLE_EQ(r, 1.0);                      // half a sample cell, in world metres (scale 2)
+    return c.x() < 77.0 ? ObservationLevel::kWellObserved : ObservationLevel::kNone;
+  };
+  const auto states = [&](double fraction) {
+    AttachmentConfig cfg;
+    cfg.seen_fraction = fraction;
+    return attachViewpoints(hyp(), prior, vps, obs, std::nullopt, cfg).states;
+  };
+  EXPECT_EQ(states(0.9)[0], GuidepointState::kExplored);
+  EXPECT_EQ(states(0.9)[1], GuidepointState::kExploring);
+  EXPECT_EQ(states(0.8)[1], GuidepointState::kExplored);
+  EXPECT_EQ(states(0.0)[0], GuidepointState::kExploring);
+  EXPECT_EQ(states(0.0)[1], GuidepointState::kExploring);
+  // G2 has no samples of its own: the rule leaves it to the paper's states.
+  EXPECT_EQ(states(0.9)[2], GuidepointState::kUnexplored);
+  AttachmentConfig bad;
+  bad.seen_fraction = 1.5;
+  EXPECT_THROW(bad.validate(), ConfigError);
+}
+
 TEST(ViewpointAttachment, GuidepointsFarOutsideTheBoundsTakeNoPart) {
   const Eigen::AlignedBox2d bounds(Eigen::Vector2d(0, 0), Eigen::Vector2d(100, 50));
   // G2 lands at x = 210, 110 m outside: kOutside; a viewpoint next to it attaches to nothing
