@@ -108,7 +108,8 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) {
     for (size_t k = 0; k < res.used_hypotheses.size(); ++k) {
       const Hypothesis& h = in.hypotheses[res.used_hypotheses[k]];
       res.attachments.push_back(attachViewpoints(h, *in.prior, in.viewpoints, in.observation,
-                                                 in.bounds_world_m, config_.attachment));
+                                                 in.bounds_world_m, config_.attachment,
+                                                 in.robot.position_world_m.head<2>()));
       HypothesisSequence hs;
       hs.confidence = h.confidence;
       hs.problem = buildGuidepointProblem(res.attachments.back(), *in.prior, h.T_world_sketch.scale,

@@ -13,6 +13,7 @@ void AttachmentConfig::validate() const {
   requirePositive("attachment.influence_radius_m", influence_radius_m);
   requireInRange("attachment.outside_margin_m", outside_margin_m, 0.0, 1e9);
   requireInRange("attachment.seen_fraction", seen_fraction, 0.0, 1.0);
+  requireInRange("attachment.seen_keep_radius_m", seen_keep_radius_m, 0.0, 1e4);
 }
 
 const char* toString(GuidepointState s) {
@@ -33,7 +34,8 @@ HypothesisAttachment attachViewpoints(const Hypothesis& hypothesis, const Guidep
                                       const std::vector<PlanViewpoint>& viewpoints,
                                       const ObservationQuery& observation,
                                       const std::optional<Eigen::AlignedBox2d>& bounds_world_m,
-                                      const AttachmentConfig& config) {
+                                      const AttachmentConfig& config,
+                                      const std::optional<Eigen::Vector2d>& robot_xy_world_m) {
   config.validate();
   if (const auto why = hypothesisDefect(hypothesis))
     throw std::invalid_argument("attachViewpoints: hypothesis " + std::to_string(hypothesis.id) +
@@ -85,9 +87,17 @@ HypothesisAttachment attachViewpoints(const Hypothesis& hypothesis, const Guidep
       seen[j] += observation(w, r) == ObservationLevel::kWellObserved;
     }
   }
+  const auto besideRobot = [&](int j) {
+    if (!robot_xy_world_m || !(config.seen_keep_radius_m > 0.0)) return false;
+    for (int i : out.attached[j])
+      if ((viewpoints[i].position_world_m.head<2>() - *robot_xy_world_m).norm() <=
+          config.seen_keep_radius_m)
+        return true;
+    return false;
+  };
   for (int j = 0; j < ng; ++j) {
     if (!active[j]) continue;
-    if (samples[j] > 0 && seen[j] >= config.seen_fraction * samples[j]) {
+    if (samples[j] > 0 && seen[j] >= config.seen_fraction * samples[j] && !besideRobot(j)) {
       out.states[j] = GuidepointState::kExplored;
     } else if (!out.attached[j].empty()) {
       out.states[j] = GuidepointState::kExploring;

@@ -106,6 +106,33 @@ TEST(ViewpointAttachment, AGuidepointWhoseFreeSpaceIsSeenIsExploredWhateverIsLef
   EXPECT_THROW(bad.validate(), ConfigError);
 }
 
+// seen_keep_radius_m: G0's free space is all seen, but its viewpoint (12, 5) is 4 m from a
+// robot at (16, 5): it stays exploring while the robot is that near, and turns explored once
+// the robot is 10 m away, or when no robot position is given.
+TEST(ViewpointAttachment, ASeenGuidepointWithAViewpointBesideTheRobotKeepsExploring) {
+  GuidepointPrior prior = threeGuidepoints();
+  prior.predicted_free_cell_m = 1.0;
+  for (int k = 0; k < 10; ++k) prior.predicted_free_sketch_m.emplace_back(-4.0 + k, 0.0);
+  const std::vector<PlanViewpoint> vps = {vp(0, 12, 5)};
+  const ObservationQuery obs = [](const Eigen::Vector2d&, double r) {
+    return r < 5.0 ? ObservationLevel::kWellObserved : ObservationLevel::kNone;
+  };
+  AttachmentConfig cfg;
+  cfg.seen_fraction = 0.9;
+  cfg.seen_keep_radius_m = 5.0;
+  const auto stateOfG0 = [&](const std::optional<Eigen::Vector2d>& robot) {
+    return attachViewpoints(hyp(), prior, vps, obs, std::nullopt, cfg, robot).states[0];
+  };
+  EXPECT_EQ(stateOfG0(Eigen::Vector2d(16, 5)), GuidepointState::kExploring);
+  EXPECT_EQ(stateOfG0(Eigen::Vector2d(22, 5)), GuidepointState::kExplored);
+  EXPECT_EQ(stateOfG0(std::nullopt), GuidepointState::kExplored);
+  cfg.seen_keep_radius_m = 0.0;  // off: the seen rule alone
+  EXPECT_EQ(stateOfG0(Eigen::Vector2d(16, 5)), GuidepointState::kExplored);
+  AttachmentConfig bad;
+  bad.seen_keep_radius_m = -1.0;
+  EXPECT_THROW(bad.validate(), ConfigError);
+}
+
 TEST(ViewpointAttachment, GuidepointsFarOutsideTheBoundsTakeNoPart) {
   const Eigen::AlignedBox2d bounds(Eigen::Vector2d(0, 0), Eigen::Vector2d(100, 50));
   // G2 lands at x = 210, 110 m outside: kOutside; a viewpoint next to it attaches to nothing

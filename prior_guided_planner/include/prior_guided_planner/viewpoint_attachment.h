@@ -38,6 +38,11 @@ struct AttachmentConfig {
   /// A guidepoint is explored once this share of its predicted free samples lies under well
   /// observed surface (see above); 0: the paper's states only.
   double seen_fraction = 0.0;
+  /// ... unless one of its viewpoints lies within this horizontal distance of the robot: what
+  /// is left beside the vehicle is taken now, not on a trip back at the end (seen: the small
+  /// SubT cave's guided flight left three viewpoints 20 m west as it turned east, and came
+  /// back for them after its last guidepoint, 54.3 -> 73.5 s) [m].
+  double seen_keep_radius_m = 0.0;
   void validate() const;
 };
 
@@ -53,6 +58,7 @@ struct HypothesisAttachment {
   std::vector<std::vector<int>> attached;
 };
 
+/// `robot_xy_world_m`: where the robot is, for seen_keep_radius_m (none: no viewpoint is near).
 /// `observation` may be empty (then every guidepoint without viewpoints is unexplored);
 /// `bounds_world_m` may be empty (no guidepoint is outside). The hypothesis must be usable
 /// (hypothesisDefect() empty), else std::invalid_argument.
@@ -60,6 +66,7 @@ HypothesisAttachment attachViewpoints(const Hypothesis& hypothesis, const Guidep
                                       const std::vector<PlanViewpoint>& viewpoints,
                                       const ObservationQuery& observation,
                                       const std::optional<Eigen::AlignedBox2d>& bounds_world_m,
-                                      const AttachmentConfig& config);
+                                      const AttachmentConfig& config,
+                                      const std::optional<Eigen::Vector2d>& robot_xy_world_m = {});
 
 }  // namespace efs::planner
