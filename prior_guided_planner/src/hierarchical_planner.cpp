@@ -20,6 +20,7 @@ void HierarchicalPlannerConfig::validate() const {
   requireInRange("tour_searched_viewpoints", tour_searched_viewpoints, 1, 100000);
   requireInRange("prior_free_max_viewpoints", prior_free_max_viewpoints, 1, 100000);
   requireInRange("keep_first_guidepoint_fraction", keep_first_guidepoint_fraction, 0.0, 1.0);
+  requireInRange("leftover_detour_m", leftover_detour_m, 0.0, 1e4);
 }
 
 HierarchicalPlanner::HierarchicalPlanner(HierarchicalPlannerConfig config)
@@ -135,6 +136,12 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) {
         std::optional<Eigen::Vector2d> terminal;
         if (res.selection.guidepoint_sequence.size() >= 2)
           terminal = res.attachments[hk].guidepoints_world_m[res.selection.guidepoint_sequence[1]];
+        if (!res.selection.guidepoint_sequence.empty())
+          takeLeftoversOnTheWay(
+              in, robot_len, res.attachments[hk],
+              terminal.value_or(
+                  res.attachments[hk].guidepoints_world_m[res.selection.guidepoint_sequence[0]]),
+              res.selection);
         std::vector<int> members = res.selection.isolated_viewpoints;
         members.insert(members.end(), res.selection.target_viewpoints.begin(),
                        res.selection.target_viewpoints.end());
@@ -176,6 +183,21 @@ void HierarchicalPlanner::rememberFirstGuidepoints(const PlanningInput& in,
       last_first_guidepoint_[id] = hs.problem.node_guidepoint[hs.mcts.sequence.front()];
     }
   }
+}
+
+void HierarchicalPlanner::takeLeftoversOnTheWay(const PlanningInput& in,
+                                                const std::vector<double>& robot_len,
+                                                const HypothesisAttachment& attachment,
+                                                const Eigen::Vector2d& toward_xy_world_m,
+                                                PriorSelection& selection) const {
+  std::vector<int>& targets = selection.target_viewpoints;
+  for (int v :
+       leftoversOnTheWay(attachment, in.viewpoints, robot_len, in.robot.position_world_m.head<2>(),
+                         toward_xy_world_m, config_.leftover_detour_m))
+    if (std::find(targets.begin(), targets.end(), v) == targets.end() &&
+        std::find(selection.isolated_viewpoints.begin(), selection.isolated_viewpoints.end(), v) ==
+            selection.isolated_viewpoints.end())
+      targets.push_back(v);
 }
 
 const std::vector<int>* HierarchicalPlanner::warmStart() const {

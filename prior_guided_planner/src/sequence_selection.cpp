@@ -76,6 +76,29 @@ void creditKeptFirstGuidepoint(HypothesisSequence& hs, int kept, double fraction
   }
 }
 
+std::vector<int> leftoversOnTheWay(const HypothesisAttachment& attachment,
+                                   const std::vector<PlanViewpoint>& viewpoints,
+                                   const std::vector<double>& robot_to_viewpoint_m,
+                                   const Eigen::Vector2d& robot_xy_world_m,
+                                   const Eigen::Vector2d& toward_xy_world_m, double max_detour_m) {
+  std::vector<int> out;
+  if (!(max_detour_m > 0.0)) return out;
+  const double direct_m = (toward_xy_world_m - robot_xy_world_m).norm();
+  const size_t n =
+      std::min({attachment.attached_to.size(), viewpoints.size(), robot_to_viewpoint_m.size()});
+  for (size_t i = 0; i < n; ++i) {
+    const int g = attachment.attached_to[i];
+    if (g < 0 || static_cast<size_t>(g) >= attachment.states.size() ||
+        attachment.states[g] != GuidepointState::kExplored ||
+        !(robot_to_viewpoint_m[i] < kUnreachable))
+      continue;
+    const double via_m = robot_to_viewpoint_m[i] +
+                         (toward_xy_world_m - viewpoints[i].position_world_m.head<2>()).norm();
+    if (via_m - direct_m <= max_detour_m) out.push_back(static_cast<int>(i));
+  }
+  return out;
+}
+
 bool ViewpointGroup::isolated() const {
   return std::all_of(key.begin(), key.end(), [](int g) { return g < 0; });
 }

@@ -1,6 +1,8 @@
 // Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "efs_common/config_check.h"
 #include "prior_guided_planner/sequence_selection.h"
 
@@ -41,6 +43,30 @@ HypothesisSequence seq(double conf, double first0, double first1) {
 // hypothesis 0 (group B), v3 attached nowhere (isolated group C).
 std::vector<ViewpointGroup> groups() {
   return groupViewpoints({att({0, 0, 1, -1}, 2), att({0, 0, -1, -1}, 2)}, 4);
+}
+
+PlanViewpoint at(double x, double y) {
+  PlanViewpoint v;
+  v.position_world_m = {x, y, 1.5};
+  return v;
+}
+
+// Robot at the origin, the way leads to (20, 0). v0 (10, 2) and v1 (-5, 0) belong to G0, which
+// the seen rule counted explored; v2 to G1, still exploring; v3 to G0 but out of reach. v0
+// lengthens the way by 0.4 m (10.2 + 10.2 - 20), v1 by 10 m (5 + 25 - 20).
+TEST(SequenceSelection, LeftoversOnTheWayAreThoseOfSeenGuidepointsWithASmallDetour) {
+  HypothesisAttachment a = att({0, 0, 1, 0}, 2);
+  a.states[0] = GuidepointState::kExplored;
+  const std::vector<PlanViewpoint> vps = {at(10, 2), at(-5, 0), at(12, 0), at(11, 1)};
+  const std::vector<double> robot_len = {std::hypot(10.0, 2.0), 5.0, 12.0, kUnreachable};
+  const auto taken = [&](double detour_m) {
+    return leftoversOnTheWay(a, vps, robot_len, {0, 0}, {20, 0}, detour_m);
+  };
+  EXPECT_EQ(taken(1.0), (std::vector<int>{0}));
+  EXPECT_EQ(taken(10.5), (std::vector<int>{0, 1}));
+  EXPECT_TRUE(taken(0.0).empty());            // off
+  a.states[0] = GuidepointState::kExploring;  // the paper's states: no leftovers
+  EXPECT_TRUE(taken(10.5).empty());
 }
 
 // The kept first guidepoint's sequence is credited with a share of the best length: enough to

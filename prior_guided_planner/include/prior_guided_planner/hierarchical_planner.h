@@ -56,6 +56,10 @@ struct HierarchicalPlannerConfig {
   /// exploring whose sequence the MCTS found a median 13 m longer in about a kilometre: a near
   /// tie, while the vehicle turned between groups 30 m apart. 0: the paper's choice.
   double keep_first_guidepoint_fraction = 0.0;
+  /// With the seen rule on, the guided tour also takes the leftovers of seen guidepoints whose
+  /// visit lengthens the way to the next guidepoint by at most this much (leftoversOnTheWay).
+  /// 0: they wait for the prior-free tour at the end [m].
+  double leftover_detour_m = 0.0;
   /// Throws efs::ConfigError naming the key.
   void validate() const;
 };
@@ -125,6 +129,11 @@ class HierarchicalPlanner {
   /// The warm start for this plan's tour (nullptr when off or there is none).
   const std::vector<int>* warmStart() const;
   void rememberTour(const PlanningInput& in, const LocalTour& tour);
+  /// Adds leftoversOnTheWay (leftover_detour_m) to the selection's target viewpoints.
+  void takeLeftoversOnTheWay(const PlanningInput& in, const std::vector<double>& robot_len,
+                             const HypothesisAttachment& attachment,
+                             const Eigen::Vector2d& toward_xy_world_m,
+                             PriorSelection& selection) const;
   /// Keeps each hypothesis' first guidepoint of this plan (keep_first_guidepoint_fraction).
   void rememberFirstGuidepoints(const PlanningInput& in, const PlanningResult& res);
   /// in.path_length_m searched only between the tour_searched_viewpoints of `members` nearest

@@ -81,6 +81,18 @@ struct PriorSelection {
   std::vector<double> risk;  ///< per group; empty when the risk step was bypassed
 };
 
+/// Leftovers worth taking on the way: viewpoints attached to a guidepoint that the seen rule
+/// counted explored (AttachmentConfig::seen_fraction; under the paper's states an explored
+/// guidepoint has none) whose visit lengthens the way from the robot to `toward_xy_world_m`
+/// by at most `max_detour_m`: L(X_r, V) + |V - toward| - |X_r - toward|, horizontally.
+/// Left alone, they wait for the prior-free tour after the last guidepoint, and that tour
+/// flies back for them (README, "Guidepoints explored by what was seen"). Sorted, unique.
+std::vector<int> leftoversOnTheWay(const HypothesisAttachment& attachment,
+                                   const std::vector<PlanViewpoint>& viewpoints,
+                                   const std::vector<double>& robot_to_viewpoint_m,
+                                   const Eigen::Vector2d& robot_xy_world_m,
+                                   const Eigen::Vector2d& toward_xy_world_m, double max_detour_m);
+
 /// SelectPriSeq. With more than one hypothesis: the group of minimum risk (ties to the group
 /// whose attaching hypothesis has the highest confidence), then among the hypotheses attaching
 /// it the one of highest confidence, with its best sequence starting at that group. With one

@@ -103,6 +103,7 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("influence_radius_m", e.planner.attachment.influence_radius_m);
   p.get("guidepoint_seen_fraction", e.planner.attachment.seen_fraction);
   p.get("guidepoint_seen_keep_radius_m", e.planner.attachment.seen_keep_radius_m);
+  p.get("guidepoint_leftover_detour_m", e.planner.leftover_detour_m);
   p.get("min_confidence", e.planner.min_confidence);
   p.get("tour_searched_viewpoints", e.planner.tour_searched_viewpoints);
   p.get("prior_free_max_viewpoints", e.planner.prior_free_max_viewpoints);
