@@ -74,6 +74,46 @@ TEST(HierarchicalPlanner, OneHypothesisGuidesTowardsTheCheaperEnd) {
   EXPECT_EQ(r.attachments[0].states[5], GuidepointState::kUnexplored);
 }
 
+// The seen rule counts G1 (x = 20, where the robot is) explored: its free samples (x = 14 .. 26)
+// all lie under well observed surface. Its viewpoint 4 at (28, 1) is then a leftover: out of
+// the guided tour, unless leftover_detour_m lets the tour take it on the way.
+TEST(HierarchicalPlanner, ALeftoverOnTheWayJoinsTheGuidedTour) {
+  GuidepointPrior prior = corridor(6);
+  prior.predicted_free_cell_m = 1.0;
+  for (int k = 0; k <= 12; ++k) prior.predicted_free_sketch_m.emplace_back(14.0 + k, 0.0);
+  Scene sc = scene();
+  sc.vps.push_back(PlanViewpoint{4, {28.0, 1.0, 1.0}, 0.0});
+  PlanningInput in = sc.input();
+  in.prior = &prior;
+  in.hypotheses = {Hypothesis{7, Sim2(), 0.8}};
+  in.observation = [](const Eigen::Vector2d& c, double r) {
+    if (r >= 5.0) return ObservationLevel::kNone;  // the paper's influence radius: nothing
+    return c.x() > 13.0 && c.x() < 27.0 ? ObservationLevel::kWellObserved : ObservationLevel::kNone;
+  };
+  const auto plan = [&](double detour_m) {
+    HierarchicalPlannerConfig cfg;
+    cfg.attachment.seen_fraction = 0.9;
+    cfg.leftover_detour_m = detour_m;
+    return HierarchicalPlanner(cfg).plan(in);
+  };
+  const auto has = [](const std::vector<int>& v, int x) {
+    return std::find(v.begin(), v.end(), x) != v.end();
+  };
+  const PlanningResult waits = plan(0.0);
+  ASSERT_EQ(waits.mode_used, BaselineMode::kProposed);
+  EXPECT_EQ(waits.attachments[0].attached_to[4], 1);
+  EXPECT_EQ(waits.attachments[0].states[1], GuidepointState::kExplored);
+  EXPECT_FALSE(has(waits.selection.target_viewpoints, 4));
+  EXPECT_FALSE(has(waits.tour.viewpoints, 4));
+  const PlanningResult taken = plan(30.0);
+  ASSERT_EQ(taken.mode_used, BaselineMode::kProposed);
+  EXPECT_TRUE(has(taken.selection.target_viewpoints, 4));
+  EXPECT_TRUE(has(taken.tour.viewpoints, 4));
+  HierarchicalPlannerConfig bad;
+  bad.leftover_detour_m = -1.0;
+  EXPECT_THROW(HierarchicalPlanner{bad}, ConfigError);
+}
+
 TEST(HierarchicalPlanner, BadHypothesesAreRejectedWithReasonAndPriorFreeTakesOver) {
   const GuidepointPrior prior = corridor(4);
   PlanningInput in = scene().input();
