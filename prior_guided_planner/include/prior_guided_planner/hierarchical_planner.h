@@ -57,8 +57,9 @@ struct HierarchicalPlannerConfig {
   /// tie, while the vehicle turned between groups 30 m apart. 0: the paper's choice.
   double keep_first_guidepoint_fraction = 0.0;
   /// With the seen rule on, the guided tour also takes the leftovers of seen guidepoints whose
-  /// visit lengthens the way to the next guidepoint by at most this much (leftoversOnTheWay).
-  /// 0: they wait for the prior-free tour at the end [m].
+  /// visit lengthens the way to the FE-TSP's terminal (the guidepoint after the target group;
+  /// the target group's own when the sequence has one guidepoint) by at most this much
+  /// (leftoversOnTheWay). 0: they wait for the prior-free tour at the end [m].
   double leftover_detour_m = 0.0;
   /// Throws efs::ConfigError naming the key.
   void validate() const;
