@@ -133,15 +133,18 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) {
       rememberFirstGuidepoints(in, res);
       if (res.selection.group >= 0 && res.selection.hypothesis >= 0) {
         const int hk = res.selection.hypothesis;
+        // A selected hypothesis always has a sequence: it starts at the target group.
+        const std::vector<int>& seq = res.selection.guidepoint_sequence;
+        const std::vector<Eigen::Vector2d>& gp = res.attachments[hk].guidepoints_world_m;
         std::optional<Eigen::Vector2d> terminal;
-        if (res.selection.guidepoint_sequence.size() >= 2)
-          terminal = res.attachments[hk].guidepoints_world_m[res.selection.guidepoint_sequence[1]];
-        if (!res.selection.guidepoint_sequence.empty())
-          takeLeftoversOnTheWay(
-              in, robot_len, res.attachments[hk],
-              terminal.value_or(
-                  res.attachments[hk].guidepoints_world_m[res.selection.guidepoint_sequence[0]]),
-              res.selection);
+        if (seq.size() >= 2) terminal = gp[seq[1]];
+        // Leftovers hang (in hk) on explored guidepoints, so none is isolated or in the target
+        // group, whose guidepoint starts hk's sequence: appended, they cannot repeat.
+        const std::vector<int> on_the_way = leftoversOnTheWay(
+            res.attachments[hk], in.viewpoints, robot_len, in.robot.position_world_m.head<2>(),
+            terminal.value_or(gp[seq[0]]), config_.leftover_detour_m);
+        res.selection.target_viewpoints.insert(res.selection.target_viewpoints.end(),
+                                               on_the_way.begin(), on_the_way.end());
         std::vector<int> members = res.selection.isolated_viewpoints;
         members.insert(members.end(), res.selection.target_viewpoints.begin(),
                        res.selection.target_viewpoints.end());
@@ -183,21 +186,6 @@ void HierarchicalPlanner::rememberFirstGuidepoints(const PlanningInput& in,
       last_first_guidepoint_[id] = hs.problem.node_guidepoint[hs.mcts.sequence.front()];
     }
   }
-}
-
-void HierarchicalPlanner::takeLeftoversOnTheWay(const PlanningInput& in,
-                                                const std::vector<double>& robot_len,
-                                                const HypothesisAttachment& attachment,
-                                                const Eigen::Vector2d& toward_xy_world_m,
-                                                PriorSelection& selection) const {
-  std::vector<int>& targets = selection.target_viewpoints;
-  for (int v :
-       leftoversOnTheWay(attachment, in.viewpoints, robot_len, in.robot.position_world_m.head<2>(),
-                         toward_xy_world_m, config_.leftover_detour_m))
-    if (std::find(targets.begin(), targets.end(), v) == targets.end() &&
-        std::find(selection.isolated_viewpoints.begin(), selection.isolated_viewpoints.end(), v) ==
-            selection.isolated_viewpoints.end())
-      targets.push_back(v);
 }
 
 const std::vector<int>* HierarchicalPlanner::warmStart() const {

@@ -81,11 +81,14 @@ std::vector<int> leftoversOnTheWay(const HypothesisAttachment& attachment,
                                    const std::vector<double>& robot_to_viewpoint_m,
                                    const Eigen::Vector2d& robot_xy_world_m,
                                    const Eigen::Vector2d& toward_xy_world_m, double max_detour_m) {
+  const size_t n = attachment.attached_to.size();
+  if (viewpoints.size() != n || robot_to_viewpoint_m.size() != n)
+    throw std::invalid_argument("leftoversOnTheWay: " + std::to_string(viewpoints.size()) +
+                                " viewpoints and " + std::to_string(robot_to_viewpoint_m.size()) +
+                                " robot path lengths for an attachment of " + std::to_string(n));
   std::vector<int> out;
   if (!(max_detour_m > 0.0)) return out;
   const double direct_m = (toward_xy_world_m - robot_xy_world_m).norm();
-  const size_t n =
-      std::min({attachment.attached_to.size(), viewpoints.size(), robot_to_viewpoint_m.size()});
   for (size_t i = 0; i < n; ++i) {
     const int g = attachment.attached_to[i];
     if (g < 0 || static_cast<size_t>(g) >= attachment.states.size() ||

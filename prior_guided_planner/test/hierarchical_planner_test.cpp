@@ -108,6 +108,9 @@ TEST(HierarchicalPlanner, ALeftoverOnTheWayJoinsTheGuidedTour) {
   const PlanningResult taken = plan(30.0);
   ASSERT_EQ(taken.mode_used, BaselineMode::kProposed);
   EXPECT_TRUE(has(taken.selection.target_viewpoints, 4));
+  EXPECT_EQ(std::count(taken.selection.target_viewpoints.begin(),
+                       taken.selection.target_viewpoints.end(), 4),
+            1);
   EXPECT_TRUE(has(taken.tour.viewpoints, 4));
   HierarchicalPlannerConfig bad;
   bad.leftover_detour_m = -1.0;

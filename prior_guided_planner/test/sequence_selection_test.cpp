@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 #include "efs_common/config_check.h"
 #include "prior_guided_planner/sequence_selection.h"
@@ -67,6 +68,7 @@ TEST(SequenceSelection, LeftoversOnTheWayAreThoseOfSeenGuidepointsWithASmallDeto
   EXPECT_TRUE(taken(0.0).empty());            // off
   a.states[0] = GuidepointState::kExploring;  // the paper's states: no leftovers
   EXPECT_TRUE(taken(10.5).empty());
+  EXPECT_THROW(leftoversOnTheWay(a, vps, {5.0}, {0, 0}, {20, 0}, 1.0), std::invalid_argument);
 }
 
 // The kept first guidepoint's sequence is credited with a share of the best length: enough to

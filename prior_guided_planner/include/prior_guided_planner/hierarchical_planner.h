@@ -130,11 +130,6 @@ class HierarchicalPlanner {
   /// The warm start for this plan's tour (nullptr when off or there is none).
   const std::vector<int>* warmStart() const;
   void rememberTour(const PlanningInput& in, const LocalTour& tour);
-  /// Adds leftoversOnTheWay (leftover_detour_m) to the selection's target viewpoints.
-  void takeLeftoversOnTheWay(const PlanningInput& in, const std::vector<double>& robot_len,
-                             const HypothesisAttachment& attachment,
-                             const Eigen::Vector2d& toward_xy_world_m,
-                             PriorSelection& selection) const;
   /// Keeps each hypothesis' first guidepoint of this plan (keep_first_guidepoint_fraction).
   void rememberFirstGuidepoints(const PlanningInput& in, const PlanningResult& res);
   /// in.path_length_m searched only between the tour_searched_viewpoints of `members` nearest

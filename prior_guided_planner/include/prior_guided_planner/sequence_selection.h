@@ -87,6 +87,7 @@ struct PriorSelection {
 /// by at most `max_detour_m`: L(X_r, V) + |V - toward| - |X_r - toward|, horizontally.
 /// Left alone, they wait for the prior-free tour after the last guidepoint, and that tour
 /// flies back for them (README, "Guidepoints explored by what was seen"). Sorted, unique.
+/// `viewpoints` and `robot_to_viewpoint_m` must match the attachment, else std::invalid_argument.
 std::vector<int> leftoversOnTheWay(const HypothesisAttachment& attachment,
                                    const std::vector<PlanViewpoint>& viewpoints,
                                    const std::vector<double>& robot_to_viewpoint_m,
