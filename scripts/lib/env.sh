@@ -27,3 +27,18 @@ efs_source_devel() {
   ((had_u)) && set -u
   return 0
 }
+
+# The real data (ed21, pittsburgh_mine) is read in place, never copied; a checkout that is not
+# beside ../shared (a clone in /tmp, say) must be told where it is, or a dozen tests fail late.
+efs_require_shared_data() {
+  local missing=()
+  local d
+  for d in ed21 pittsburgh_mine; do
+    [[ -d $EFS_SHARED_DATA_DIR/$d ]] || missing+=("$d/")
+  done
+  ((${#missing[@]} == 0)) && return 0
+  efs_log "the real test data is not at EFS_SHARED_DATA_DIR=$EFS_SHARED_DATA_DIR" \
+    "(missing ${missing[*]}); it is ../shared/data beside the checkout by default:" \
+    "set EFS_SHARED_DATA_DIR to the folder holding ed21/ and pittsburgh_mine/"
+  return 1
+}
