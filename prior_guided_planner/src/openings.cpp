@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <unordered_map>
 #include <unordered_set>
 #include <utility>
@@ -179,6 +181,30 @@ std::vector<Opening> OpeningTourMembership::select(
   // flights slower (README, "Openings are toured from the first plan").
   joined_ = stay_once_joined_ && surface_viewpoints_world_m.empty() && !out.empty();
   return out;
+}
+
+ReachedOpenings::ReachedOpenings(double moved_m, int max_visits)
+    : moved_m_(moved_m), max_visits_(max_visits) {
+  if (!(moved_m >= 0.0) || max_visits < 1)
+    throw std::invalid_argument("reached openings: moved_m " + std::to_string(moved_m) +
+                                " must be >= 0 and max_visits " + std::to_string(max_visits) +
+                                " >= 1");
+}
+
+void ReachedOpenings::markReached(int id, const Eigen::Vector3d& viewpoint_world_m) {
+  Visit& v = visits_[id];
+  v.viewpoint_world_m = viewpoint_world_m;
+  ++v.count;
+}
+
+bool ReachedOpenings::visited(const Opening& opening) const {
+  return visits_.count(opening.id) > 0;
+}
+
+bool ReachedOpenings::movedOn(const Opening& opening) const {
+  const auto v = visits_.find(opening.id);
+  return v != visits_.end() && v->second.count < max_visits_ &&
+         (opening.viewpoint_world_m - v->second.viewpoint_world_m).norm() > moved_m_;
 }
 
 }  // namespace efs::planner

@@ -659,6 +659,12 @@ TEST(ExplorationManager, ConfigErrorsNameTheKey) {
   c = {};
   c.near_openings_min_cells = 0;
   expectKey(c, "near_openings_min_cells");
+  c = {};
+  c.reached_opening_moved_m = std::nan("");
+  expectKey(c, "reached_opening_moved_m");
+  c = {};
+  c.opening_max_visits = 0;
+  expectKey(c, "opening_max_visits");
 }
 
 TEST(ExplorationManager, MalformedPriorIsRefused) {

@@ -22,9 +22,9 @@
 namespace efs::planner {
 
 struct MissionMapConfig {
-  double cloud_voxel_m = 0.1;          ///< resolution of the dense cloud [m]
-  double max_range_m = 40.0;           ///< scan points farther from the sensor are not kept [m]
-  double trajectory_spacing_m = 0.2;   ///< a track sample every this much flight [m]
+  double cloud_voxel_m = 0.1;         ///< resolution of the dense cloud [m]
+  double max_range_m = 40.0;          ///< scan points farther from the sensor are not kept [m]
+  double trajectory_spacing_m = 0.2;  ///< a track sample every this much flight [m]
   void validate() const;
 };
 
@@ -36,7 +36,7 @@ struct TrackSample {
 
 /// The registration state written beside the map.
 struct MapRegistration {
-  std::vector<Hypothesis> hypotheses;  ///< best first; empty when nothing was registered
+  std::vector<Hypothesis> hypotheses;       ///< best first; empty when nothing was registered
   std::optional<int> active_hypothesis_id;  ///< the last one the guidance used, if any
   std::string world_frame = "world";
   std::string sketch_frame = "sketch";

@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <functional>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -109,6 +110,33 @@ class OpeningTourMembership {
  private:
   bool stay_once_joined_;
   bool joined_ = false;
+};
+
+/// The openings the vehicle reached. One that stays where it was reached is a dead end (a
+/// pocket the LiDAR cannot see into from anywhere near). But an opening keeps its id (its
+/// smallest cell) as it grows, and one whose viewpoint lies more than `moved_m` from where it
+/// was reached leads on into space that look opened up (a door looked through in passing, the
+/// room behind it now known free far in): it has moved on, and may be toured again, up to
+/// `max_visits` reaches in all.
+class ReachedOpenings {
+ public:
+  /// std::invalid_argument unless moved_m >= 0 and max_visits >= 1.
+  ReachedOpenings(double moved_m, int max_visits);
+
+  void markReached(int id, const Eigen::Vector3d& viewpoint_world_m);
+  /// Whether `opening` was reached before.
+  bool visited(const Opening& opening) const;
+  /// Whether `opening` was reached before, has moved on since, and has visits left.
+  bool movedOn(const Opening& opening) const;
+
+ private:
+  struct Visit {
+    Eigen::Vector3d viewpoint_world_m;
+    int count = 0;
+  };
+  double moved_m_;
+  int max_visits_;
+  std::map<int, Visit> visits_;
 };
 
 }  // namespace efs::planner
