@@ -35,8 +35,6 @@ void ExplorationManagerConfig::validate() const {
   requireInRange("max_goal_distance_m", max_goal_distance_m, 1.0, 1e4);
   requireInRange("max_goal_climb_m", max_goal_climb_m, 0.5, 1e4);
   requireInRange("tour_lookahead_m", tour_lookahead_m, 0.0, 1e4);
-  requireInRange("reached_opening_moved_m", reached_opening_moved_m, 0.0, 1e4);
-  requireInRange("opening_max_visits", opening_max_visits, 1, 1000);
   requireInRange("near_openings_radius_m", near_openings_radius_m, 0.0, 1e4);
   requireInRange("near_openings_min_cells", near_openings_min_cells, 1, 1000000);
   if (bounds_world_m) {
@@ -117,7 +115,7 @@ ExplorationManager::ExplorationManager(const ExplorationManagerConfig& config,
       path_cache_(occupancy_, config_.path),
       planner_(config_.planner),
       opening_membership_(config_.openings_stay_in_tour),
-      reached_openings_(config_.reached_opening_moved_m, config_.opening_max_visits) {
+      reached_openings_(config_.reached_openings) {
   if (prior_) prior_->validate();
   if (config_.fine_path_resolution_factor > 1) {
     PathSearchConfig fine = config_.path;
@@ -204,7 +202,7 @@ GoalRefusal ExplorationManager::reportGoalUnreachable(const Eigen::Vector3d& goa
   const double distance_m = (target_.viewpoint_world_m - last_robot_world_m_).norm();
   const bool near = distance_m <= config_.unreachable_near_m;
   if (near) {
-    markReached(id, target_.viewpoint_world_m);
+    markTargetReached();
     ++stats_.goals_refused_near;
   } else {
     setAside(id, time_s);
@@ -254,7 +252,7 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   // A target the robot reached is not planned for again.
   if (target_.has_goal && target_.goal_viewpoint_id &&
       (robot.position_world_m - target_.viewpoint_world_m).norm() <= config_.target_reached_m) {
-    markReached(*target_.goal_viewpoint_id, target_.viewpoint_world_m);
+    markTargetReached();
   }
 
   for (auto it = set_aside_until_s_.begin(); it != set_aside_until_s_.end();)
@@ -514,9 +512,10 @@ bool ExplorationManager::checkProgress(double time_s) {
   return false;
 }
 
-void ExplorationManager::markReached(int id, const Eigen::Vector3d& viewpoint_world_m) {
+void ExplorationManager::markTargetReached() {
+  const int id = *target_.goal_viewpoint_id;
   if (opening_look_at_.count(id)) {
-    reached_openings_.markReached(id, viewpoint_world_m);
+    reached_openings_.markReached(id, target_.viewpoint_world_m);
     return;
   }
   reached_viewpoint_ids_.insert(id);

@@ -5,8 +5,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <stdexcept>
-#include <string>
 #include <unordered_map>
 #include <unordered_set>
 #include <utility>
@@ -183,12 +181,13 @@ std::vector<Opening> OpeningTourMembership::select(
   return out;
 }
 
-ReachedOpenings::ReachedOpenings(double moved_m, int max_visits)
-    : moved_m_(moved_m), max_visits_(max_visits) {
-  if (!(moved_m >= 0.0) || max_visits < 1)
-    throw std::invalid_argument("reached openings: moved_m " + std::to_string(moved_m) +
-                                " must be >= 0 and max_visits " + std::to_string(max_visits) +
-                                " >= 1");
+void ReachedOpeningsConfig::validate() const {
+  requireInRange("reached_opening_moved_m", moved_m, 0.0, 1e4);
+  requireInRange("opening_max_visits", max_visits, 1, 1000);
+}
+
+ReachedOpenings::ReachedOpenings(ReachedOpeningsConfig config) : config_(config) {
+  config_.validate();
 }
 
 void ReachedOpenings::markReached(int id, const Eigen::Vector3d& viewpoint_world_m) {
@@ -203,8 +202,8 @@ bool ReachedOpenings::visited(const Opening& opening) const {
 
 bool ReachedOpenings::movedOn(const Opening& opening) const {
   const auto v = visits_.find(opening.id);
-  return v != visits_.end() && v->second.count < max_visits_ &&
-         (opening.viewpoint_world_m - v->second.viewpoint_world_m).norm() > moved_m_;
+  return v != visits_.end() && v->second.count < config_.max_visits &&
+         (opening.viewpoint_world_m - v->second.viewpoint_world_m).norm() > config_.moved_m;
 }
 
 }  // namespace efs::planner

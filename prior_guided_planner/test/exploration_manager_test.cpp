@@ -660,10 +660,10 @@ TEST(ExplorationManager, ConfigErrorsNameTheKey) {
   c.near_openings_min_cells = 0;
   expectKey(c, "near_openings_min_cells");
   c = {};
-  c.reached_opening_moved_m = std::nan("");
+  c.reached_openings.moved_m = std::nan("");
   expectKey(c, "reached_opening_moved_m");
   c = {};
-  c.opening_max_visits = 0;
+  c.reached_openings.max_visits = 0;
   expectKey(c, "opening_max_visits");
 }
 

@@ -162,7 +162,7 @@ TEST(Openings, TheFirstPlanWithoutSurfaceViewpointsKeepsThemInTheTours) {
 // inside the room. Reached where it still is: a dead end; moved on: worth another look, up to
 // the visit limit. Another opening is not touched by the first one's visits.
 TEST(Openings, AReachedOpeningHasMovedOnOnlyOnceItsViewpointDid) {
-  ReachedOpenings reached(2.0, 3);
+  ReachedOpenings reached({2.0, 3});
   const Opening door = openingAt(7, {14.8, 15.2, 1.7}, 40);
   EXPECT_FALSE(reached.visited(door));
   EXPECT_FALSE(reached.movedOn(door));
@@ -180,9 +180,9 @@ TEST(Openings, AReachedOpeningHasMovedOnOnlyOnceItsViewpointDid) {
   EXPECT_FALSE(reached.movedOn(grown));  // third visit: never again
   EXPECT_FALSE(reached.movedOn(openingAt(7, {40, 0, 1.7}, 500)));
   EXPECT_TRUE(reached.visited(grown));
-  EXPECT_THROW(ReachedOpenings(-1.0, 3), std::invalid_argument);
-  EXPECT_THROW(ReachedOpenings(std::nan(""), 3), std::invalid_argument);
-  EXPECT_THROW(ReachedOpenings(2.0, 0), std::invalid_argument);
+  EXPECT_THROW(ReachedOpenings({-1.0, 3}), std::invalid_argument);
+  EXPECT_THROW(ReachedOpenings({std::nan(""), 3}), std::invalid_argument);
+  EXPECT_THROW(ReachedOpenings({2.0, 0}), std::invalid_argument);
 }
 
 // Seen from the room with a 40 m range, the space behind the door leaves one large opening (the

@@ -79,15 +79,14 @@ struct ExplorationManagerConfig {
   /// openings are in the tours from the start (found at stop 39; joining only once surface
   /// viewpoints had been planned and ran out was slower on most quick-tier cells).
   bool openings_stay_in_tour = true;
-  /// A reached opening is toured again once its viewpoint lies this far from where it was
-  /// reached [m], at most opening_max_visits times in all. An opening keeps its id (its
+  /// A reached opening is looked at again, once nothing else is left, when its viewpoint has
+  /// moved on from where it was reached (ReachedOpeningsConfig). An opening keeps its id (its
   /// smallest cell) as it grows, and one that stays where it was reached is a dead end; but a
   /// door looked through in passing grows into the room behind it: seen in the small indoor
   /// world, an opening reached at the door (the vehicle turned away at once) was 292 cells
   /// with its viewpoint 6 m inside the room when the flight ended "exploration complete" at
   /// 89 % coverage, that room never entered.
-  double reached_opening_moved_m = 2.0;
-  int opening_max_visits = 3;
+  ReachedOpeningsConfig reached_openings;
   /// Plan at most this often [s] unless the target is reached, gone, or hypotheses changed.
   double replan_period_s = 1.0;
   /// The target counts as reached when the robot is this close to it [m].
@@ -272,8 +271,8 @@ class ExplorationManager {
   bool withinGoalReach(const Eigen::Vector3d& from, const Eigen::Vector3d& to) const;
   /// Near a goal the local planner gave up on (reportGoalUnreachable), within its retry time.
   bool refusedGoal(const Eigen::Vector3d& goal_world_m) const;
-  /// Viewpoint (or opening) `id` is not planned for again while it lives.
-  void markReached(int id, const Eigen::Vector3d& viewpoint_world_m);
+  /// The target viewpoint (or opening) is not planned for again while it lives.
+  void markTargetReached();
   /// Sets viewpoint `id` aside until time_s + unreachable_retry_s; gives it up on its
   /// unreachable_attempts-th time.
   void setAside(int id, double time_s);

@@ -112,6 +112,15 @@ class OpeningTourMembership {
   bool joined_ = false;
 };
 
+/// When a reached opening is worth another look (ReachedOpenings); keys as in the planner YAML.
+struct ReachedOpeningsConfig {
+  /// It has moved on once its viewpoint lies this far from where it was reached [m] ...
+  double moved_m = 2.0;
+  /// ... and is reached at most this many times in all.
+  int max_visits = 3;
+  void validate() const;
+};
+
 /// The openings the vehicle reached. One that stays where it was reached is a dead end (a
 /// pocket the LiDAR cannot see into from anywhere near). But an opening keeps its id (its
 /// smallest cell) as it grows, and one whose viewpoint lies more than `moved_m` from where it
@@ -120,8 +129,8 @@ class OpeningTourMembership {
 /// `max_visits` reaches in all.
 class ReachedOpenings {
  public:
-  /// std::invalid_argument unless moved_m >= 0 and max_visits >= 1.
-  ReachedOpenings(double moved_m, int max_visits);
+  /// ConfigError (a std::invalid_argument) naming the key of a bad value.
+  explicit ReachedOpenings(ReachedOpeningsConfig config = {});
 
   void markReached(int id, const Eigen::Vector3d& viewpoint_world_m);
   /// Whether `opening` was reached before.
@@ -134,8 +143,7 @@ class ReachedOpenings {
     Eigen::Vector3d viewpoint_world_m;
     int count = 0;
   };
-  double moved_m_;
-  int max_visits_;
+  ReachedOpeningsConfig config_;
   std::map<int, Visit> visits_;
 };
 

@@ -67,8 +67,8 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("near_openings_radius_m", e.near_openings_radius_m);
   p.get("near_openings_min_cells", e.near_openings_min_cells);
   p.get("openings_stay_in_tour", e.openings_stay_in_tour);
-  p.get("reached_opening_moved_m", e.reached_opening_moved_m);
-  p.get("opening_max_visits", e.opening_max_visits);
+  p.get("reached_opening_moved_m", e.reached_openings.moved_m);
+  p.get("opening_max_visits", e.reached_openings.max_visits);
   p.get("max_goal_distance_m", e.max_goal_distance_m);
   p.get("max_goal_climb_m", e.max_goal_climb_m);
   p.get("tour_lookahead_m", e.tour_lookahead_m);
