@@ -14,6 +14,7 @@ void VerifierConfig::validate() const {
   requirePositive("scale_guess", scale_guess);
   requireInRange("scale_tolerance_factor", scale_tolerance_factor, 1.0, 1e3);
   requireInRange("triplet_scale_consistency", triplet_scale_consistency, 0.0, 10.0);
+  requireInRange("candidate_position_error_m", candidate_position_error_m, 0.0, 1e3);
   requirePositive("match_radius_m", match_radius_m);
   requireInRange("match_radius_rel", match_radius_rel, 0.0, 10.0);
   requireInRange("min_anchor_displacement_m", min_anchor_displacement_m, 0.0, 1e4);
@@ -48,6 +49,15 @@ void MultiFrameVerifier::reset() {
 bool MultiFrameVerifier::scaleOk(double s) const {
   const double f = config_.scale_tolerance_factor;
   return s >= config_.scale_guess / f && s <= config_.scale_guess * f;
+}
+
+bool MultiFrameVerifier::pairScaleAgrees(double s, double dp, double dc) const {
+  const double e = 2.0 * config_.candidate_position_error_m;
+  const double k = config_.triplet_scale_consistency;
+  const double s_min = dp / (dc + e) * (1.0 - k);
+  // A pair whose candidates may lie at one place gives no upper bound.
+  if (dc <= e) return s >= s_min;
+  return s >= s_min && s <= dp / (dc - e) * (1.0 + k);
 }
 
 bool MultiFrameVerifier::yawOk(const Candidate& c, const Sim2& T) const {
@@ -140,9 +150,7 @@ void MultiFrameVerifier::getPotTran(int fa, int fb, int fc) {
           t.T_world_sketch = Sim2(0.0, 1.0, Eigen::Vector2d::Zero(), reflected);
           t.misses = 0;
           if (!evaluateTrack(t)) continue;
-          if (std::abs(t.T_world_sketch.scale / s_pair - 1.0) > config_.triplet_scale_consistency) {
-            continue;
-          }
+          if (!pairScaleAgrees(t.T_world_sketch.scale, dp, dc)) continue;
           t.yaw_consistent =
               yawOk(a, t.T_world_sketch) + yawOk(b, t.T_world_sketch) + yawOk(c, t.T_world_sketch);
           if (t.yaw_consistent < 2) continue;

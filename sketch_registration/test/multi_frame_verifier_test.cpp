@@ -163,6 +163,43 @@ TEST(MultiFrameVerifier, ARequestedReseedFindsTheTruthPastASurvivingWrongTrack) 
   EXPECT_TRUE(run(true));
 }
 
+TEST(MultiFrameVerifier, AShortAnchorBaselineDoesNotVetoTheTrueTriplet) {
+  // Frames 2-4 of the recorded cave flight (registration_replay --start-s 0.2): robot positions,
+  // candidates and the true placement as the replay had them. The robot moved 1.8 m between the
+  // first two frames; their true candidates, on the 1 m grid, lie 1.41 sketch m apart, so the
+  // pair's scale s~ = 1.22 is 25 % below the truth, and the true triplet (fitted scale 2.08,
+  // refined by Scale-ICP to 1.62) is 70 % above s~. The pair's other candidates form a transform
+  // turned half round (the robot flying the passage the other way), 8.7 m off, which passes
+  // either way.
+  const Sim2 truth(0.1599, 1.6362, Vector2d(-2.165, -8.002));
+  Frames f;
+  f.p_world = {{29.1, 8.1}, {27.7, 9.2}, {20.3, 10.4}};
+  const std::vector<std::vector<Vector2d>> cells = {{{20.5, 6.5}, {15.5, 10.5}},
+                                                    {{19.5, 7.5}, {16.5, 9.5}},
+                                                    {{16.5, 8.5}, {19.5, 8.5}, {22.5, 7.5}}};
+  const std::vector<std::vector<double>> yaws = {
+      {0.14, -2.93}, {0.21, -3.00}, {0.21, -2.93, -3.00}};
+  for (size_t i = 0; i < cells.size(); ++i) {
+    f.candidates.emplace_back();
+    for (size_t k = 0; k < cells[i].size(); ++k) {
+      Candidate c;
+      c.c_sketch = cells[i][k];
+      c.yaw_rad = yaws[i][k];
+      f.candidates.back().push_back(c);
+    }
+  }
+  const auto registers = [&](double position_error_m) {
+    VerifierConfig c;
+    c.candidate_position_error_m = position_error_m;
+    MultiFrameVerifier v(c);
+    for (size_t i = 0; i < 3; ++i) v.addFrame(f.p_world[i], f.candidates[i]);
+    return hasTruth(v, truth, f, 2.0);
+  };
+  EXPECT_TRUE(registers(1.0));
+  // Trusting s~ as exact (the candidates at the robot's very places) vetoes it.
+  EXPECT_FALSE(registers(0.0));
+}
+
 TEST(MultiFrameVerifier, IgnoresFramesWithoutMotionOrCandidates) {
   MultiFrameVerifier v(VerifierConfig{});
   Candidate c;

@@ -52,7 +52,7 @@
 // --fitness-threshold-m, --min-inlier-ratio,
 // --kept-fitness-threshold-m, --kept-min-inlier-ratio, --forward-inlier-slack,
 // --slack-min-reverse-ratio, --max-stretch, --stretch-min-fitness-gain, --kept-min-inside-ratio,
-// --screen-points, --max-icp-inputs,
+// --screen-points, --max-icp-inputs, --candidate-position-error-m,
 // --inlier-distance-m, --slice-min-dz-m, --slice-max-dz-m, --wall-columns 0|1, --column-cell-m,
 // --wall-min-height-m, --wall-max-gap-m, --wall-top-clear-m, --wall-continuation-m, --icp-range-m,
 // --max-range-m, --unknown-empty-bins 0|1,
@@ -1050,7 +1050,8 @@ Options parse(int argc, char** argv) {
                         "sketch-point-radius-m",
                         "settled-coverage",
                         "coverage-weight-m",
-                        "history"}) {
+                        "history",
+                        "candidate-position-error-m"}) {
     valued.insert(k);
   }
   const efs::CliArgs args(argc, argv, valued, {"no-single-frame", "verbose"});
@@ -1144,6 +1145,7 @@ Options parse(int argc, char** argv) {
   o.registration.descriptor.coarse_shift_keep = static_cast<int>(
       args.integer("coarse-shift-keep", o.registration.descriptor.coarse_shift_keep));
   overrideNumber("mirror-score-margin", o.registration.descriptor.mirror_score_margin);
+  overrideNumber("candidate-position-error-m", o.registration.verifier.candidate_position_error_m);
   overrideNumber("sketch-point-radius-m", o.registration.sketch_point_radius_m);
   overrideNumber("settled-coverage", o.registration.settled_coverage);
   overrideNumber("coverage-weight-m", o.registration.coverage_weight_m);

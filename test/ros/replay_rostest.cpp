@@ -89,19 +89,27 @@ class HypothesisWatch {
 HypothesisWatch* g_watch = nullptr;
 double g_bag_end_s = 0.0;
 
-/// Unpauses the player (replay.launch start_paused:=true) once the nodes listen to what it and
-/// lio_bridge publish; a message says which one was missing.
+/// Unpauses the player (replay.launch start_paused:=true) once every link from the bag to the
+/// registration and the planner is connected; a message says which one was missing. A link the
+/// master lists but that is not connected yet loses what is sent on it: on a loaded CI machine
+/// lio_bridge missed the bag's first scan that way, and with it the registration frame at the
+/// start of the flight.
 ::testing::AssertionResult startTheBagOnceTheStackListens() {
   const double timeout_wall_s = 120.0;  // Phase 1 on a loaded machine
-  const std::vector<std::pair<std::string, std::string>> listeners = {
-      {"/cloud_registered", "/lio_bridge"},
-      {"/Odometry", "/lio_bridge"},
-      {"/registration_frame", "/sketch_registration"},
-      {"/scan_world", "/prior_guided_planner"},
-      {"/odom", "/prior_guided_planner"}};
-  for (const auto& [topic, node] : listeners) {
-    if (!efs::rostest::waitForSubscriber(topic, node, timeout_wall_s)) {
-      return ::testing::AssertionFailure() << node << " did not subscribe to " << topic;
+  struct Link {
+    const char* publisher;
+    const char* topic;
+    const char* subscriber;
+  };
+  const std::vector<Link> links = {{"/player", "/cloud_registered", "/lio_bridge"},
+                                   {"/player", "/Odometry", "/lio_bridge"},
+                                   {"/lio_bridge", "/registration_frame", "/sketch_registration"},
+                                   {"/lio_bridge", "/scan_world", "/prior_guided_planner"},
+                                   {"/lio_bridge", "/odom", "/prior_guided_planner"}};
+  for (const Link& l : links) {
+    if (!efs::rostest::waitForConnection(l.publisher, l.topic, l.subscriber, timeout_wall_s)) {
+      return ::testing::AssertionFailure()
+             << l.subscriber << " is not connected to " << l.publisher << " on " << l.topic;
     }
   }
   const std::string pause = "/player/pause_playback";

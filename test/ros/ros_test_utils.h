@@ -4,9 +4,11 @@
 #pragma once
 
 #include <ros/master.h>
+#include <ros/network.h>
 #include <ros/ros.h>
 #include <ros/topic.h>
 #include <rosgraph_msgs/Log.h>
+#include <xmlrpcpp/XmlRpcClient.h>
 
 #include <unistd.h>
 
@@ -47,19 +49,36 @@ inline bool nodeAlive(const std::string& name) {
   return false;
 }
 
-/// Waits up to `timeout_wall_s` (wall time) until `node` (a full name, "/lio_bridge") is a
-/// subscriber of `topic` (a full name) in the master's graph.
-inline bool waitForSubscriber(const std::string& topic, const std::string& node,
-                              double timeout_wall_s) {
+/// Waits up to `timeout_wall_s` (wall time) until `publisher` (a full node name, "/player") has an
+/// open connection carrying `topic` to `subscriber` ("/lio_bridge"), as the publisher's own bus
+/// information says (getBusInfo). The master lists a subscriber before it has connected to the
+/// publisher; messages published in between are lost.
+inline bool waitForConnection(const std::string& publisher, const std::string& topic,
+                              const std::string& subscriber, double timeout_wall_s) {
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_wall_s);
   while (true) {
-    XmlRpc::XmlRpcValue request(ros::this_node::getName()), response, state;
-    if (ros::master::execute("getSystemState", request, response, state, false)) {
-      XmlRpc::XmlRpcValue& subscribed = state[1];
-      for (int i = 0; i < subscribed.size(); ++i) {
-        if (static_cast<std::string>(subscribed[i][0]) != topic) continue;
-        for (int j = 0; j < subscribed[i][1].size(); ++j) {
-          if (static_cast<std::string>(subscribed[i][1][j]) == node) return true;
+    XmlRpc::XmlRpcValue request, response, payload;
+    request[0] = ros::this_node::getName();
+    request[1] = publisher;
+    std::string host;
+    uint32_t port = 0;
+    if (ros::master::execute("lookupNode", request, response, payload, false) &&
+        ros::network::splitURI(static_cast<std::string>(payload), host, port)) {
+      XmlRpc::XmlRpcClient client(host.c_str(), static_cast<int>(port), "/");
+      XmlRpc::XmlRpcValue args, info;
+      args[0] = ros::this_node::getName();
+      // [code, message, [[id, destination, direction, transport, topic, ...], ...]]
+      if (client.execute("getBusInfo", args, info) &&
+          info.getType() == XmlRpc::XmlRpcValue::TypeArray && info.size() == 3 &&
+          static_cast<int>(info[0]) == 1) {
+        XmlRpc::XmlRpcValue& links = info[2];
+        for (int i = 0; i < links.size(); ++i) {
+          if (links[i].size() < 5) continue;
+          if (static_cast<std::string>(links[i][2]) == "o" &&
+              static_cast<std::string>(links[i][4]) == topic &&
+              static_cast<std::string>(links[i][1]) == subscriber) {
+            return true;
+          }
         }
       }
     }

@@ -50,6 +50,7 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   p.get("max_candidates_per_frame", r.retrieval.max_candidates_per_frame);
   p.get("min_ranked_candidates", r.retrieval.min_ranked_candidates);
   p.get("match_radius_m", r.verifier.match_radius_m);
+  p.get("candidate_position_error_m", r.verifier.candidate_position_error_m);
   p.get("lambda_t", r.verifier.lambda.lambda_t);
   p.get("lambda_r", r.verifier.lambda.lambda_r);
   p.get("lambda_s", r.verifier.lambda.lambda_s);
