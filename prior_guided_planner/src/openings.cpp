@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <deque>
 #include <limits>
 #include <unordered_map>
 #include <unordered_set>
@@ -20,6 +21,7 @@ void OpeningConfig::validate() const {
   requireInRange("openings.narrow_viewpoint_clearance_m", narrow_viewpoint_clearance_m, 0.0,
                  viewpoint_clearance_m);
   requireInRange("openings.max_backoff_m", max_backoff_m, 0.0, 100.0);
+  requireInRange("openings.max_walk_cells", max_walk_cells, 0, 10000000);
   requireInRange("openings.search_radius_m", search_radius_m, 1.0, 100000.0);
 }
 
@@ -31,8 +33,9 @@ constexpr size_t kMaxViewpointStarts = 32;
 /// Where to look through an opening from: the first known-free place (a ball of
 /// `clearance_m`) stepping back from the opening cells nearest its centre (`starts`)
 /// away from the unknown side, up to max_backoff_m, a cell or two up where a floor was not
-/// seen; failing that, on the way back to the robot from the nearest cell (free space seen from
-/// afar is too sparse for a known-free ball: rays a metre apart 20 m out).
+/// seen; failing that, the known-free place nearest the opening along the known free space (up
+/// to max_walk_cells); failing that, on the way back to the robot from the cell nearest the
+/// centre.
 std::optional<Eigen::Vector3d> hoverPlace(const OccupancyMap& occ,
                                           const std::vector<Eigen::Vector3d>& starts,
                                           const Eigen::Vector2d& away, const Eigen::Vector3d& robot,
@@ -51,6 +54,32 @@ std::optional<Eigen::Vector3d> hoverPlace(const OccupancyMap& occ,
     for (const Eigen::Vector3d& c : starts)
       if (const auto p = knownFree(c + s * step)) return p;
   if (starts.empty()) return std::nullopt;
+  if (cfg.max_walk_cells > 0) {
+    // Breadth first over known-free cells from the opening's: an opening seen from afar (a
+    // room seen through its door from the corridor) is known free only along the rays, which
+    // the walk follows back until the space around them is known free too. Only cells whose
+    // six face neighbours are free can hold the ball, so only those are tested.
+    std::unordered_set<VoxelKey, VoxelKeyHash> seen;
+    std::deque<VoxelKey> queue;
+    for (const Eigen::Vector3d& c : starts)
+      if (seen.insert(occ.key(c)).second) queue.push_back(occ.key(c));
+    static const VoxelKey kFaces[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                       {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+    int walked = 0;
+    while (!queue.empty() && walked++ < cfg.max_walk_cells) {
+      const VoxelKey k = queue.front();
+      queue.pop_front();
+      const bool faces_free =
+          std::all_of(std::begin(kFaces), std::end(kFaces), [&](const VoxelKey& o) {
+            return occ.isFree({k.x + o.x, k.y + o.y, k.z + o.z});
+          });
+      if (faces_free && occ.isKnownFree(occ.center(k), clearance_m)) return occ.center(k);
+      for (const VoxelKey& o : neighbourOffsets26()) {
+        const VoxelKey n{k.x + o.x, k.y + o.y, k.z + o.z};
+        if (occ.isFree(n) && seen.insert(n).second) queue.push_back(n);
+      }
+    }
+  }
   const Eigen::Vector3d to_robot = robot - starts.front();
   const int steps = static_cast<int>(std::ceil(to_robot.norm() / res));
   for (int s = 1; s <= steps; ++s)

@@ -257,20 +257,51 @@ TEST(Openings, ViewpointsAreKnownFreeWhenTheFloorWasNotSeen) {
 }
 
 // A corridor seen from one end to the sensor's range: the free space 30 m out is a ray every
-// half metre, no room for a known-free ball. The viewpoint is found on the way back toward the
-// robot instead of the opening being dropped (or placed where nothing below was seen).
-TEST(Openings, AFarOpeningSeenSparselyGetsAViewpointOnTheWayBack) {
+// half metre, no room for a known-free ball. The viewpoint is found back along the rays, where
+// the space around them is known free, instead of the opening being dropped (or placed where
+// nothing below was seen).
+OccupancyMap corridorSeenFrom(const Eigen::Vector3d& robot) {
   Scene scene;
   scene.room = {{-1, -3, 0}, {80, 3, 3}};
   OccupancyMap occ;
-  const Eigen::Vector3d robot(1.0, 0.0, 1.5);
   occ.insertScan(robot, scene.scanSphere(robot, 1.0, 30.0));
+  return occ;
+}
+
+TEST(Openings, AFarOpeningSeenSparselyGetsAViewpointOnTheWayBack) {
+  const Eigen::Vector3d robot(1.0, 0.0, 1.5);
+  const OccupancyMap occ = corridorSeenFrom(robot);
   const std::vector<Opening> openings = findOpenings(occ, robot, std::nullopt);
   ASSERT_FALSE(openings.empty());
   const Opening& o = openings.front();
   EXPECT_TRUE(occ.isKnownFree(o.viewpoint_world_m, OpeningConfig().viewpoint_clearance_m));
   EXPECT_GT(o.viewpoint_world_m.x(), robot.x() + 1.0) << o.viewpoint_world_m.transpose();
   EXPECT_GT(std::cos(o.yaw_rad), 0.5) << o.yaw_rad;  // looking on down the corridor
+}
+
+// The same corridor: where the far opening is looked through from depends on the map, not on
+// where the vehicle stands. Looked for on the straight way back to the vehicle, the place moved
+// with it, and a vehicle that stood anywhere had "reached" it (ed21: the south-west wing, seen
+// through its door, was left as a dead end by three of four guided flights).
+TEST(Openings, AFarOpeningsViewpointDoesNotFollowTheVehicle) {
+  const OccupancyMap occ = corridorSeenFrom({1.0, 0.0, 1.5});
+  const auto farthest = [&](const Eigen::Vector3d& robot, const OpeningConfig& config) {
+    const std::vector<Opening> openings = findOpenings(occ, robot, std::nullopt, config);
+    EXPECT_FALSE(openings.empty());
+    Eigen::Vector3d v = Eigen::Vector3d::Constant(-1e9);
+    for (const Opening& o : openings)
+      if (o.viewpoint_world_m.x() > v.x()) v = o.viewpoint_world_m;
+    return v;
+  };
+  const OpeningConfig walk;
+  OpeningConfig straight_back = walk;
+  straight_back.max_walk_cells = 0;
+  const Eigen::Vector3d here(1.0, 0.0, 1.5), there(4.0, -2.0, 1.5);
+  const Eigen::Vector3d v = farthest(here, walk);
+  EXPECT_TRUE(occ.isKnownFree(v, walk.viewpoint_clearance_m)) << v.transpose();
+  EXPECT_GT(v.x(), 8.0) << v.transpose();
+  EXPECT_LT((farthest(there, walk) - v).norm(), 1e-9);
+  EXPECT_GT((farthest(there, straight_back) - farthest(here, straight_back)).norm(), 0.5);
 }
 
 // A vehicle in a corridor 1 m wide, scanned with an 8 m range: the ways on are what the rays
