@@ -91,9 +91,9 @@ double g_bag_end_s = 0.0;
 
 /// Unpauses the player (replay.launch start_paused:=true) once every link from the bag to the
 /// registration and the planner is connected; a message says which one was missing. A link the
-/// master lists but that is not connected yet loses what is sent on it: on a loaded CI machine
-/// lio_bridge missed the bag's first scan that way, and with it the registration frame at the
-/// start of the flight.
+/// master lists but that is not connected yet loses what is sent on it, and the first scan makes
+/// the first registration frame (in CI a registration node that missed it did not register this
+/// flight before candidate_position_error_m).
 ::testing::AssertionResult startTheBagOnceTheStackListens() {
   const double timeout_wall_s = 120.0;  // Phase 1 on a loaded machine
   struct Link {

@@ -14,9 +14,10 @@
 // a desk; seen: a collision 0.35 m above an office floor flying to such an opening).
 // The viewpoint is where the vehicle may hover and look through the opening: a known-free ball
 // of viewpoint_clearance_m, stepped back from the opening into the known space when the opening
-// itself borders the unknown, or on the way back to the robot when the free space around the
-// opening was seen only from afar. An opening cell can sit right above a floor the LiDAR never saw
-// (seen: a goal 0.15 m above a cave floor, unknown to both maps, and a collision there).
+// itself borders the unknown, or found along the known free space (back along the rays) when the
+// space around the opening was seen only from afar. An opening cell can sit right above a floor the
+// LiDAR never saw (seen: a goal 0.15 m above a cave floor, unknown to both maps, and a collision
+// there).
 #pragma once
 
 #include <Eigen/Core>
@@ -46,7 +47,7 @@ struct OpeningConfig {
   /// is known free only along the rays through it. 0: off.
   double narrow_viewpoint_clearance_m = 0.36;
   /// How far the viewpoint is looked for back from the opening, away from the unknown side [m],
-  /// before it is looked for on the way back to the robot.
+  /// before it is looked for along the known free space (max_walk_cells).
   double max_backoff_m = 2.0;
   /// Failing that, the viewpoint is the first place with the ball found walking breadth first
   /// over known-free cells from the opening, at most this many cells (0: no walk). It used to be
