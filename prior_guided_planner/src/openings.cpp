@@ -22,6 +22,8 @@ void OpeningConfig::validate() const {
                  viewpoint_clearance_m);
   requireInRange("openings.max_backoff_m", max_backoff_m, 0.0, 100.0);
   requireInRange("openings.max_walk_cells", max_walk_cells, 0, 10000000);
+  requireInRange("openings.vouched_min_cells", vouched_min_cells, 0, min_cells);
+  requireInRange("openings.vouched_radius_m", vouched_radius_m, 0.0, 1000.0);
   requireInRange("openings.search_radius_m", search_radius_m, 1.0, 100000.0);
 }
 
@@ -99,7 +101,8 @@ std::vector<Opening> findOpenings(const OccupancyMap& occ, const Eigen::Vector3d
 }
 
 std::vector<Opening> findOpenings(const OccupancyMap& occ, const OpeningCells& cells,
-                                  const Eigen::Vector3d& robot, const OpeningConfig& cfg) {
+                                  const Eigen::Vector3d& robot, const OpeningConfig& cfg,
+                                  const std::vector<Eigen::Vector2d>& vouched) {
   cfg.validate();
   std::vector<Opening> out;
   if (!robot.allFinite()) return out;
@@ -116,7 +119,10 @@ std::vector<Opening> findOpenings(const OccupancyMap& occ, const OpeningCells& c
     if ((occ.center(k) - robot).head<2>().squaredNorm() <= r2) pending.insert(k);
   while (!pending.empty()) {
     const std::vector<VoxelKey> cluster = takeComponent26(*pending.begin(), pending);
-    if (static_cast<int>(cluster.size()) < cfg.min_cells) continue;
+    const int size = static_cast<int>(cluster.size());
+    const bool may_be_vouched =
+        cfg.vouched_min_cells > 0 && size >= cfg.vouched_min_cells && !vouched.empty();
+    if (size < cfg.min_cells && !may_be_vouched) continue;
     // Integer key sums: the centroid and each cell's distance to it are exact, so the starts
     // do not depend on the order the cluster's cells come in (hash-set order).
     int64_t sum[3] = {0, 0, 0};
@@ -130,6 +136,23 @@ std::vector<Opening> findOpenings(const OccupancyMap& occ, const OpeningCells& c
       if (voxelKeyLess(k, smallest)) smallest = k;
     }
     const int64_t n = static_cast<int64_t>(cluster.size());
+    if (size < cfg.min_cells) {
+      // The sketch's place must lie within reach and in view across unknown space: a pocket in
+      // a cave wall has rock between it and a guidepoint that a deformed drawing put into the
+      // rock (unknown too, but behind the wall's occupied surface).
+      const double nd = static_cast<double>(n);
+      const Eigen::Vector3d centre =
+          occ.resolution() *
+          (Eigen::Vector3d(static_cast<double>(sum[0]) / nd, static_cast<double>(sum[1]) / nd,
+                           static_cast<double>(sum[2]) / nd) +
+           Eigen::Vector3d::Constant(0.5));
+      const double r2 = cfg.vouched_radius_m * cfg.vouched_radius_m;
+      if (std::none_of(vouched.begin(), vouched.end(), [&](const Eigen::Vector2d& v) {
+            return (v - centre.head<2>()).squaredNorm() <= r2 &&
+                   occ.lineOfSight(centre, Eigen::Vector3d(v.x(), v.y(), centre.z()), false);
+          }))
+        continue;
+    }
     const auto offsetSquared = [&](const VoxelKey& k) {  // (n (k - centroid))^2 in cells^2
       const double dx = static_cast<double>(n * k.x - sum[0]);
       const double dy = static_cast<double>(n * k.y - sum[1]);
@@ -233,6 +256,18 @@ bool ReachedOpenings::movedOn(const Opening& opening) const {
   const auto v = visits_.find(opening.id);
   return v != visits_.end() && v->second.count < config_.max_visits &&
          (opening.viewpoint_world_m - v->second.viewpoint_world_m).norm() > config_.moved_m;
+}
+
+std::vector<Eigen::Vector2d> unseenGuidepoints(const OccupancyMap& occ,
+                                               const std::vector<Eigen::Vector2d>& prior_sketch_m,
+                                               const Sim2& T_world_sketch, double height_m) {
+  std::vector<Eigen::Vector2d> out;
+  for (const Eigen::Vector2d& g : prior_sketch_m) {
+    const Eigen::Vector2d w = T_world_sketch.apply(g);
+    if (w.allFinite() && occ.isUnknown(occ.key(Eigen::Vector3d(w.x(), w.y(), height_m))))
+      out.push_back(w);
+  }
+  return out;
 }
 
 }  // namespace efs::planner

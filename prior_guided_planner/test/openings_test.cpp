@@ -332,6 +332,48 @@ TEST(Openings, InACorridorTooNarrowForTheFullBallTheNarrowOneIsUsed) {
   }
 }
 
+// A handful of opening cells is a pocket, unless the sketch vouches for a place near it that no
+// scan has reached: a door seen edge-on from the corridor (ed21: 9-14 cells, the room's
+// guidepoint 3.5 m behind it, never entered by any flight before).
+TEST(Openings, APocketIsAWayOnWhereTheSketchVouchesForAnUnseenPlaceNearIt) {
+  const OccupancyMap occ = scanned(true);
+  // Cells in a row across the known-free left part (x = 3.5), facing +x.
+  const auto pocket = [&](int n) {
+    OpeningCells cells;
+    for (int i = 0; i < n; ++i) cells[occ.key({3.5, -1.0 + 0.3 * i, 1.2})] = {1.0, 0.0};
+    return cells;
+  };
+  const OpeningConfig c;
+  ASSERT_LT(8, c.min_cells);
+  ASSERT_GE(8, c.vouched_min_cells);
+  const Eigen::Vector3d robot(0, 0, 1.5);
+  EXPECT_TRUE(findOpenings(occ, pocket(8), robot, c).empty());
+  // Through the door; too far; as near, but behind the wall (y < -0.6 at x = 5-5.3).
+  const std::vector<Eigen::Vector2d> near = {{6.5, 0.0}}, far = {{8.5, 0.0}},
+                                     walled_off = {{5.8, -2.5}};
+  const std::vector<Opening> vouched = findOpenings(occ, pocket(8), robot, c, near);
+  ASSERT_EQ(vouched.size(), 1u);
+  EXPECT_EQ(vouched.front().cells, 8);
+  EXPECT_TRUE(occ.isKnownFree(vouched.front().viewpoint_world_m, c.viewpoint_clearance_m));
+  EXPECT_TRUE(findOpenings(occ, pocket(8), robot, c, far).empty());
+  EXPECT_TRUE(findOpenings(occ, pocket(8), robot, c, walled_off).empty());
+  EXPECT_TRUE(findOpenings(occ, pocket(c.vouched_min_cells - 1), robot, c, near).empty());
+  OpeningConfig off = c;
+  off.vouched_min_cells = 0;
+  EXPECT_TRUE(findOpenings(occ, pocket(8), robot, off, near).empty());
+}
+
+// The sketch's guidepoints (sketch frame) mapped into the world; those in space no scan reached
+// vouch for the openings near them.
+TEST(Openings, UnseenGuidepointsAreThoseNoScanReached) {
+  const OccupancyMap occ = scanned(false);  // the right part behind the closed wall is unseen
+  const Sim2 T(0.0, 2.0, Eigen::Vector2d(1.0, 0.0));
+  const std::vector<Eigen::Vector2d> sketch = {{0.0, 0.0}, {5.0, 0.0}};  // world (1, 0), (11, 0)
+  const std::vector<Eigen::Vector2d> unseen = unseenGuidepoints(occ, sketch, T, 1.5);
+  ASSERT_EQ(unseen.size(), 1u);
+  EXPECT_LT((unseen.front() - Eigen::Vector2d(11.0, 0.0)).norm(), 1e-9);
+}
+
 TEST(Openings, BadInput) {
   OccupancyMap empty;
   EXPECT_TRUE(findOpenings(empty, {0, 0, 0}, std::nullopt).empty());

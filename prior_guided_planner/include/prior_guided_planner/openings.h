@@ -27,6 +27,7 @@
 #include <optional>
 #include <vector>
 
+#include "efs_common/sim2.h"
 #include "prior_guided_planner/occupancy_map.h"
 #include "prior_guided_planner/opening_cells.h"
 
@@ -59,6 +60,15 @@ struct OpeningConfig {
   /// them is known free, a place that moves only as the map does. The straight way back remains
   /// the last resort.
   int max_walk_cells = 20000;
+  /// A cluster of fewer than min_cells is still a way on when it has at least vouched_min_cells
+  /// and a place the sketch vouches for (findOpenings' `vouched_xy_world_m`) lies within
+  /// vouched_radius_m of its centre, horizontally, in view across unknown space. A door seen
+  /// edge-on from the corridor leaves a pocket's worth of cells: in ed21 the room east of the
+  /// south-east block (its door 9-14 cells as the vehicle passed, its guidepoint 3.5 m behind it
+  /// in space no scan had reached) was entered by no flight, the drawings' or prior_free's. At 10
+  /// cells the door fell below the bound as the vehicle came nearer. 0: off.
+  int vouched_min_cells = 5;
+  double vouched_radius_m = 4.0;
   /// Openings beyond this horizontal range of the robot are left out [m]. Openings are asked for
   /// once no surface viewpoint is left, and then every one belongs in the tour: at 60 m the
   /// far ones of a 150 x 110 m building entered and left the set as the vehicle moved, and it
@@ -84,10 +94,20 @@ std::vector<Opening> findOpenings(const OccupancyMap& occupancy,
                                   const std::optional<Eigen::AlignedBox3d>& bounds_world_m,
                                   const OpeningConfig& config = {});
 /// The same from the map's opening cells (openingCellsOf, or an OpeningCellIndex's, with the
-/// bounds they were found with).
+/// bounds they were found with). `vouched_xy_world_m`: places the sketch says are there to see
+/// and no scan has reached (unseenGuidepoints); smaller clusters near them count too
+/// (OpeningConfig::vouched_min_cells).
 std::vector<Opening> findOpenings(const OccupancyMap& occupancy, const OpeningCells& cells,
                                   const Eigen::Vector3d& robot_world_m,
-                                  const OpeningConfig& config = {});
+                                  const OpeningConfig& config = {},
+                                  const std::vector<Eigen::Vector2d>& vouched_xy_world_m = {});
+
+/// The guidepoints of `prior_sketch_m` mapped by `T_world_sketch` that lie in space no scan has
+/// reached: the cell at `height_m` there is unknown to `occupancy` (a room the drawing shows
+/// and the flight has not looked into).
+std::vector<Eigen::Vector2d> unseenGuidepoints(const OccupancyMap& occupancy,
+                                               const std::vector<Eigen::Vector2d>& prior_sketch_m,
+                                               const Sim2& T_world_sketch, double height_m);
 
 /// The openings a plan tours (ExplorationManagerConfig::near_openings_radius_m): all of them
 /// when no surface viewpoint is left; when no surface viewpoint lies within `near_radius_m`
