@@ -356,7 +356,9 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   // those beside places no flight can enter (a garage's closed service core) drew the small
   // garage's flights across it (precise seed 3 68.2 -> 87.4 s).
   if (vps.empty() && config_.use_openings && config_.openings.vouched_min_cells > 0) {
-    vouched = unseenGuidepointsOfTheGuide(robot);
+    if (const HypothesisAttachment* guide = activeAttachment())
+      vouched =
+          unseenGuidepoints(occupancy_, guide->guidepoints_world_m, robot.position_world_m.z());
     if (!vouched.empty()) {
       openings.reset();
       collect();
@@ -554,16 +556,6 @@ bool ExplorationManager::lookedAt(int cluster_id) const {
   size_t n = 0;
   for (const VoxelKey& k : c->second.cells) n += looked_at_cells_.count(k);
   return static_cast<double>(n) >= config_.looked_at_fraction * c->second.cells.size();
-}
-
-std::vector<Eigen::Vector2d> ExplorationManager::unseenGuidepointsOfTheGuide(
-    const RobotPose& robot) const {
-  if (!prior_ || !last_plan_ || last_plan_->active_hypothesis_id < 0) return {};
-  for (const Hypothesis& h : hypotheses_)
-    if (h.id == last_plan_->active_hypothesis_id)
-      return unseenGuidepoints(occupancy_, prior_->positions_sketch_m, h.T_world_sketch,
-                               robot.position_world_m.z());
-  return {};
 }
 
 void ExplorationManager::setAside(int id, double time_s) {

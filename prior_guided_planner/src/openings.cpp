@@ -258,15 +258,13 @@ bool ReachedOpenings::movedOn(const Opening& opening) const {
          (opening.viewpoint_world_m - v->second.viewpoint_world_m).norm() > config_.moved_m;
 }
 
-std::vector<Eigen::Vector2d> unseenGuidepoints(const OccupancyMap& occ,
-                                               const std::vector<Eigen::Vector2d>& prior_sketch_m,
-                                               const Sim2& T_world_sketch, double height_m) {
+std::vector<Eigen::Vector2d> unseenGuidepoints(
+    const OccupancyMap& occ, const std::vector<Eigen::Vector2d>& guidepoints_world_m,
+    double height_m) {
   std::vector<Eigen::Vector2d> out;
-  for (const Eigen::Vector2d& g : prior_sketch_m) {
-    const Eigen::Vector2d w = T_world_sketch.apply(g);
+  for (const Eigen::Vector2d& w : guidepoints_world_m)
     if (w.allFinite() && occ.isUnknown(occ.key(Eigen::Vector3d(w.x(), w.y(), height_m))))
       out.push_back(w);
-  }
   return out;
 }
 

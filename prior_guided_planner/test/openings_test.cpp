@@ -363,13 +363,12 @@ TEST(Openings, APocketIsAWayOnWhereTheSketchVouchesForAnUnseenPlaceNearIt) {
   EXPECT_TRUE(findOpenings(occ, pocket(8), robot, off, near).empty());
 }
 
-// The sketch's guidepoints (sketch frame) mapped into the world; those in space no scan reached
-// vouch for the openings near them.
+// The guidepoints a hypothesis maps into the world; those in space no scan reached vouch for the
+// openings near them.
 TEST(Openings, UnseenGuidepointsAreThoseNoScanReached) {
   const OccupancyMap occ = scanned(false);  // the right part behind the closed wall is unseen
-  const Sim2 T(0.0, 2.0, Eigen::Vector2d(1.0, 0.0));
-  const std::vector<Eigen::Vector2d> sketch = {{0.0, 0.0}, {5.0, 0.0}};  // world (1, 0), (11, 0)
-  const std::vector<Eigen::Vector2d> unseen = unseenGuidepoints(occ, sketch, T, 1.5);
+  const std::vector<Eigen::Vector2d> guidepoints = {{1.0, 0.0}, {11.0, 0.0}};
+  const std::vector<Eigen::Vector2d> unseen = unseenGuidepoints(occ, guidepoints, 1.5);
   ASSERT_EQ(unseen.size(), 1u);
   EXPECT_LT((unseen.front() - Eigen::Vector2d(11.0, 0.0)).norm(), 1e-9);
 }

@@ -280,9 +280,6 @@ class ExplorationManager {
   bool givenUp(int id) const;
   /// Whether at least looked_at_fraction of a cluster's cells are in looked_at_cells_.
   bool lookedAt(int cluster_id) const;
-  /// The guidepoints the last plan's guiding hypothesis maps into space no scan has reached, at
-  /// the robot's height (OpeningConfig::vouched_min_cells); none without a guide.
-  std::vector<Eigen::Vector2d> unseenGuidepointsOfTheGuide(const RobotPose& robot) const;
 
   ExplorationManagerConfig config_;
   std::optional<GuidepointPrior> prior_;

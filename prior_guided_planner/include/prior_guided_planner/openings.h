@@ -27,7 +27,6 @@
 #include <optional>
 #include <vector>
 
-#include "efs_common/sim2.h"
 #include "prior_guided_planner/occupancy_map.h"
 #include "prior_guided_planner/opening_cells.h"
 
@@ -102,12 +101,12 @@ std::vector<Opening> findOpenings(const OccupancyMap& occupancy, const OpeningCe
                                   const OpeningConfig& config = {},
                                   const std::vector<Eigen::Vector2d>& vouched_xy_world_m = {});
 
-/// The guidepoints of `prior_sketch_m` mapped by `T_world_sketch` that lie in space no scan has
-/// reached: the cell at `height_m` there is unknown to `occupancy` (a room the drawing shows
-/// and the flight has not looked into).
-std::vector<Eigen::Vector2d> unseenGuidepoints(const OccupancyMap& occupancy,
-                                               const std::vector<Eigen::Vector2d>& prior_sketch_m,
-                                               const Sim2& T_world_sketch, double height_m);
+/// The guidepoints (mapped into the world by a hypothesis, HypothesisAttachment) that lie in
+/// space no scan has reached: the cell at `height_m` there is unknown to `occupancy` (a room the
+/// drawing shows and the flight has not looked into).
+std::vector<Eigen::Vector2d> unseenGuidepoints(
+    const OccupancyMap& occupancy, const std::vector<Eigen::Vector2d>& guidepoints_world_m,
+    double height_m);
 
 /// The openings a plan tours (ExplorationManagerConfig::near_openings_radius_m): all of them
 /// when no surface viewpoint is left; when no surface viewpoint lies within `near_radius_m`
