@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <unordered_map>
 
@@ -193,12 +194,22 @@ CandidateDatabase::Invariants CandidateDatabase::invariants(size_t i, int l,
 
 Candidate CandidateDatabase::score(size_t i, int l, const Invariants& inv,
                                    const ShiftTables& tables, const SimilarityWeights& w,
-                                   bool try_reversed, GeoContext& scratch) const {
+                                   bool try_reversed, GeoContext& scratch, int* shift_code,
+                                   bool near_shift_code) const {
   Candidate c = unscored(i, l);
   if (tables.n == 0) return c;
   cutAt(i, l, scratch);
-  const ShiftMatch m = bestColumnShiftCoarseToFine(
-      scratch, tables, try_reversed, config_.coarse_shift_keep, config_.mirror_score_margin);
+  ShiftMatch m;
+  if (near_shift_code && shift_code != nullptr) {
+    thread_local std::vector<int> centre(1);
+    centre[0] = *shift_code;
+    m = refineShifts(scratch, tables, centre, config_.level_shift_half_width,
+                     config_.mirror_score_margin);
+  } else {
+    m = bestColumnShiftCoarseToFine(scratch, tables, try_reversed, config_.coarse_shift_keep,
+                                    config_.mirror_score_margin);
+    if (shift_code != nullptr) *shift_code = shiftCode(m, tables.n);
+  }
   c.s_cos = m.score;
   c.s_fft = inv.s_fft;
   c.s_cv = inv.s_cv;
@@ -218,15 +229,30 @@ std::vector<Candidate> CandidateDatabase::scoreAll(const GeoContext& observed,
   const ShiftTables tables(observed, config_.empty_observed_bins_unknown);
   GeoContext scratch;
   out.reserve(size());
-  const auto scoreAt = [&](size_t i, int l) {
-    return level(i, l).valid
-               ? score(i, l, invariants(i, l, observed, w), tables, w, try_reversed, scratch)
-               : unscored(i, l);
-  };
+  const int nl = static_cast<int>(levels_m_.size());
+  std::vector<Invariants> inv(static_cast<size_t>(nl));
   for (size_t i = 0; i < size(); ++i) {
-    Candidate best = scoreAt(i, 0);
-    for (int l = 1; l < static_cast<int>(levels_m_.size()); ++l) {
-      const Candidate c = scoreAt(i, l);
+    // The level rank() scores first: the highest bound, the lowest level on ties.
+    std::optional<int> first;
+    for (int l = 0; l < nl; ++l) {
+      if (!level(i, l).valid) continue;
+      inv[static_cast<size_t>(l)] = invariants(i, l, observed, w);
+      if (!first || inv[static_cast<size_t>(l)].combined(1.0, w) >
+                        inv[static_cast<size_t>(*first)].combined(1.0, w)) {
+        first = l;
+      }
+    }
+    if (!first) {
+      out.push_back(unscored(i, 0));
+      continue;
+    }
+    int code = 0;
+    Candidate best = score(i, *first, inv[static_cast<size_t>(*first)], tables, w, try_reversed,
+                           scratch, &code, false);
+    for (int l = 0; l < nl; ++l) {
+      if (l == *first || !level(i, l).valid) continue;
+      const Candidate c = score(i, l, inv[static_cast<size_t>(l)], tables, w, try_reversed, scratch,
+                                &code, !config_.full_shift_search_every_level);
       if (c.score > best.score) best = c;
     }
     out.push_back(best);
@@ -275,6 +301,9 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
   constexpr double kNotScored = -std::numeric_limits<double>::infinity();
   std::vector<double> best_score(size(), kNotScored);
   std::set<std::pair<double, int>> top;  // the k best (score, index), ascending
+  // The shift code of each candidate's first scored level (its highest bound): the others
+  // search near it (DescriptorConfig::level_shift_half_width).
+  std::vector<int> first_shift(size(), 0);
   // The pairs come in bound order, not memory order: what the pair kPrefetch ahead reads is
   // fetched while this one is scored.
   constexpr size_t kPrefetch = 4;
@@ -294,7 +323,8 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
     // Another level of a candidate already scored only matters if it may beat that score.
     if (scored && b.value <= best_score[i]) continue;
     const int l = static_cast<int>(b.pair % nl);
-    Candidate c = score(i, l, inv[b.pair], tables, w, try_reversed, scratch);
+    const Candidate c = score(i, l, inv[b.pair], tables, w, try_reversed, scratch, &first_shift[i],
+                              scored && !config_.full_shift_search_every_level);
     if (scored) {
       if (!(c.score > best_score[i])) continue;
       top.erase({best_score[i], static_cast<int>(i)});  // absent when it was trimmed: no-op

@@ -22,6 +22,7 @@ void DescriptorConfig::validate() const {
   requireInRange("coarse_shift_factor", coarse_shift_factor, 1, num_bins);
   requireThat(num_bins % coarse_shift_factor == 0, "coarse_shift_factor", "must divide num_bins");
   requireInRange("coarse_shift_keep", coarse_shift_keep, 1, num_bins);
+  requireInRange("level_shift_half_width", level_shift_half_width, 0, num_bins / 2);
   requireInRange("mirror_score_margin", mirror_score_margin, 0.0, 1.0);
 }
 
@@ -246,19 +247,43 @@ ShiftMatch preferProper(const ShiftMatch& plain, const ShiftMatch& mirrored, dou
 }
 }  // namespace
 
-ShiftMatch bestColumnShiftCoarseToFine(const GeoContext& prior, const ShiftTables& tables,
-                                       bool try_reversed, int keep, double mirror_margin) {
-  const int n = tables.n, nc = tables.n_coarse;
-  if (nc == 0 || static_cast<int>(prior.coarse_range_m.size()) != nc || n % nc != 0) {
-    return bestColumnShift(prior.range_m.data(), tables, try_reversed, mirror_margin);
-  }
-  const int f = n / nc;
+ShiftMatch refineShifts(const GeoContext& prior, const ShiftTables& tables,
+                        const std::vector<int>& centres, int half_width, double mirror_margin) {
+  const int n = tables.n;
+  ShiftMatch best_plain, best_mirrored;
+  if (n == 0 || static_cast<int>(prior.range_m.size()) != n) return best_plain;
   const float sa = sumOf(prior.range_m.data(), n), sb = sumOf(tables.plain.data(), n);
+  for (int centre : centres) {
+    const bool rev = centre >= n;
+    ShiftMatch& best = rev ? best_mirrored : best_plain;
+    for (int d = -half_width; d <= half_width; ++d) {
+      const int shift = ((centre % n + d) % n + n) % n;
+      // Plain: window at `shift`; mirrored: shift n' is the window at -n'.
+      const double v = rev ? windowScore(prior.range_m.data(), sa, tables.reversed,
+                                         tables.unseen_reversed, (n - shift) % n, n, sb)
+                           : windowScore(prior.range_m.data(), sa, tables.plain,
+                                         tables.unseen_plain, shift, n, sb);
+      if (v > best.score) best = ShiftMatch{v, shift, rev, 0.0};
+    }
+  }
+  ShiftMatch best = preferProper(best_plain, best_mirrored, mirror_margin);
+  best.yaw_rad = std::remainder(2.0 * M_PI * best.shift / n, 2.0 * M_PI);
+  return best;
+}
+
+namespace {
+
+/// Coarse stage: the `keep` best coarse shifts, best first, coded orientation * n_coarse + coarse
+/// shift.
+void bestCoarseShifts(const GeoContext& prior, const ShiftTables& tables, bool try_reversed,
+                      int keep, std::vector<int>& codes) {
+  codes.clear();
+  const int nc = tables.n_coarse;
+  if (nc == 0 || static_cast<int>(prior.coarse_range_m.size()) != nc) return;
   const float sca = sumOf(prior.coarse_range_m.data(), nc);
   const float scb = sumOf(tables.coarse_plain.data(), nc);
-  // Coarse scores of every (orientation, coarse shift); the best `keep` are refined.
-  std::vector<std::pair<float, int>> coarse;  // (score, orientation * nc + coarse shift)
-  coarse.reserve(2 * static_cast<size_t>(nc));
+  thread_local std::vector<std::pair<float, int>> coarse;  // (score, code)
+  coarse.clear();
   for (int c = 0; c < nc; ++c) {
     coarse.emplace_back(
         static_cast<float>(windowScore(prior.coarse_range_m.data(), sca, tables.coarse_plain,
@@ -276,24 +301,32 @@ ShiftMatch bestColumnShiftCoarseToFine(const GeoContext& prior, const ShiftTable
   keep = std::min<int>(keep, static_cast<int>(coarse.size()));
   std::partial_sort(coarse.begin(), coarse.begin() + keep, coarse.end(),
                     [](const auto& a, const auto& b) { return a.first > b.first; });
-  ShiftMatch best_plain, best_mirrored;
-  for (int q = 0; q < keep; ++q) {
-    const bool rev = coarse[static_cast<size_t>(q)].second >= nc;
-    const int center = f * (coarse[static_cast<size_t>(q)].second % nc);
-    ShiftMatch& best = rev ? best_mirrored : best_plain;
-    for (int d = -(f - 1); d <= f - 1; ++d) {
-      const int shift = ((center + d) % n + n) % n;
-      // Plain: window at `shift`; mirrored: shift n' is the window at -n'.
-      const double v = rev ? windowScore(prior.range_m.data(), sa, tables.reversed,
-                                         tables.unseen_reversed, (n - shift) % n, n, sb)
-                           : windowScore(prior.range_m.data(), sa, tables.plain,
-                                         tables.unseen_plain, shift, n, sb);
-      if (v > best.score) best = ShiftMatch{v, shift, rev, 0.0};
-    }
+  for (int q = 0; q < keep; ++q) codes.push_back(coarse[static_cast<size_t>(q)].second);
+}
+
+/// Fine stage: every fine shift within a coarse bin of each coded coarse shift.
+ShiftMatch refineCoarseShifts(const GeoContext& prior, const ShiftTables& tables,
+                              const std::vector<int>& codes, double mirror_margin) {
+  const int n = tables.n, nc = tables.n_coarse;
+  if (nc == 0 || n % nc != 0) return ShiftMatch{};
+  const int f = n / nc;
+  thread_local std::vector<int> centres;
+  centres.clear();
+  for (int code : codes) centres.push_back((code >= nc ? n : 0) + f * (code % nc));
+  return refineShifts(prior, tables, centres, f - 1, mirror_margin);
+}
+
+}  // namespace
+
+ShiftMatch bestColumnShiftCoarseToFine(const GeoContext& prior, const ShiftTables& tables,
+                                       bool try_reversed, int keep, double mirror_margin) {
+  const int n = tables.n, nc = tables.n_coarse;
+  if (nc == 0 || static_cast<int>(prior.coarse_range_m.size()) != nc || n % nc != 0) {
+    return bestColumnShift(prior.range_m.data(), tables, try_reversed, mirror_margin);
   }
-  ShiftMatch best = preferProper(best_plain, best_mirrored, mirror_margin);
-  best.yaw_rad = std::remainder(2.0 * M_PI * best.shift / n, 2.0 * M_PI);
-  return best;
+  thread_local std::vector<int> codes;
+  bestCoarseShifts(prior, tables, try_reversed, keep, codes);
+  return refineCoarseShifts(prior, tables, codes, mirror_margin);
 }
 
 ShiftMatch bestColumnShift(const float* prior, const ShiftTables& tables, bool try_reversed,

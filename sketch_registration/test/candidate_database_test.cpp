@@ -5,6 +5,7 @@
 // scale between them is unknown (within the scale tolerance).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <utility>
 #include <vector>
 
@@ -161,6 +162,46 @@ TEST(Retrieval, RankIsTheTopOfTheExhaustiveScoring) {
     }
   }
   EXPECT_GE(compared, 6);
+}
+
+TEST(Retrieval, LevelsAfterTheFirstSearchedNearItsShiftRankAsTheFullSearch) {
+  // A candidate's levels are one place cut at several ranges: searching the others only near the
+  // shift its first level matched must find the true place as often as searching each level in
+  // full, and keep nearly the same top 5 %.
+  const syn::Scenario sc = deckAt(Sim2(0.7, 1.6, Vector2d(12.0, -5.0)));
+  SketchRegistrationConfig config;
+  config.descriptor.clip_to_range = true;
+  DescriptorConfig near_config = sketchDescriptorConfig(config);
+  ASSERT_FALSE(near_config.full_shift_search_every_level);
+  DescriptorConfig full_config = near_config;
+  full_config.full_shift_search_every_level = true;
+  const double near_share = topFiveShare(sc, near_config, 30.0, sketchRangeLevelsM(config));
+  const double full_share = topFiveShare(sc, full_config, 30.0, sketchRangeLevelsM(config));
+  EXPECT_GE(near_share, 0.9);
+  EXPECT_GE(near_share, full_share - 0.02);
+
+  const CandidateDatabase near_db(sc.sketch_points_m, sc.candidates_m, near_config,
+                                  sketchRangeLevelsM(config));
+  const CandidateDatabase full_db(sc.sketch_points_m, sc.candidates_m, full_config,
+                                  sketchRangeLevelsM(config));
+  const size_t k = topFivePercent(near_db);
+  size_t shared = 0, total = 0;
+  for (size_t f = 0; f < sc.path_world_m.size(); f += 5) {
+    const Vector2d p = sc.path_world_m[f];
+    const GeoContext observed = computeGeoContext(syn::castRays(sc.world_plan, p, 1440, 30.0), p,
+                                                  observedConfig(30.0, true));
+    if (!observed.valid) continue;
+    const std::vector<Candidate> a = near_db.rank(observed, k, SimilarityWeights{}, true);
+    const std::vector<Candidate> b = full_db.rank(observed, k, SimilarityWeights{}, true);
+    for (const Candidate& c : a) {
+      shared +=
+          std::any_of(b.begin(), b.end(), [&c](const Candidate& o) { return o.index == c.index; });
+    }
+    total += a.size();
+  }
+  ASSERT_GT(total, 0u);
+  // Measured: both 97.5 % of the positions; 99.95 % of the top 5 % shared.
+  EXPECT_GE(static_cast<double>(shared) / static_cast<double>(total), 0.98);
 }
 
 TEST(Retrieval, RangeLevelsSpanTheScaleTolerance) {

@@ -81,6 +81,35 @@ TEST(GeoContext, RotatedSceneIsAColumnShift) {
   }
 }
 
+TEST(GeoContext, RefiningNearAShiftSearchesOnlyWithinTheHalfWidth) {
+  DescriptorConfig config;
+  const Points2d pts = officePoints();
+  const Vector2d view(25.0, 18.0);
+  const int n = config.num_bins;
+  const GeoContext d0 = computeGeoContext(pts, view, config);
+  const GeoContext d1 =
+      computeGeoContext(rotatedAbout(pts, view, 2.0 * M_PI * 45 / n, false), view, config);
+  const ShiftTables tables(d1);
+  const ShiftMatch full = bestColumnShift(d0, d1, true);
+  ASSERT_EQ(full.shift, 45);
+  const ShiftMatch near = refineShifts(d0, tables, {43}, 2);
+  EXPECT_EQ(near.shift, 45);
+  EXPECT_FALSE(near.reversed);
+  EXPECT_EQ(near.score, full.score);
+  EXPECT_EQ(shiftCode(near, n), 45);
+  // Out of reach of the true shift: a worse one, still in the window.
+  const ShiftMatch far = refineShifts(d0, tables, {40}, 2);
+  EXPECT_LE(std::abs(far.shift - 40), 2);
+  EXPECT_LT(far.score, full.score);
+  // Wrapping around bin 0, and a mirrored centre stays mirrored.
+  const GeoContext d2 =
+      computeGeoContext(rotatedAbout(pts, view, 2.0 * M_PI * 1 / n, false), view, config);
+  EXPECT_EQ(refineShifts(d0, ShiftTables(d2), {n - 1}, 2).shift, 1);
+  const ShiftMatch mirrored = refineShifts(d0, tables, {n + 45}, 2);
+  EXPECT_TRUE(mirrored.reversed);
+  EXPECT_EQ(shiftCode(mirrored, n), n + mirrored.shift);
+}
+
 TEST(GeoContext, MirroredSceneMatchesReversed) {
   DescriptorConfig config;
   const Points2d pts = officePoints();
@@ -253,17 +282,23 @@ TEST(GeoContext, EmptyOrSparseInputIsInvalid) {
 }
 
 TEST(GeoContext, ConfigValidationNamesTheKey) {
+  const auto expectErrorNaming = [](const DescriptorConfig& c, const std::string& key) {
+    try {
+      c.validate();
+      ADD_FAILURE() << "expected ConfigError naming " << key;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
   DescriptorConfig c;
   c.coarse_shift_factor = 4;  // does not divide 90
-  try {
-    c.validate();
-    FAIL() << "expected ConfigError";
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("coarse_shift_factor"), std::string::npos);
-  }
+  expectErrorNaming(c, "coarse_shift_factor");
   c = DescriptorConfig{};
   c.num_fft = 0;
   EXPECT_THROW(c.validate(), ConfigError);
+  c = DescriptorConfig{};
+  c.level_shift_half_width = -1;
+  expectErrorNaming(c, "level_shift_half_width");
 }
 
 }  // namespace

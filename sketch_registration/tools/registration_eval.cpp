@@ -56,7 +56,8 @@
 // --inlier-distance-m, --slice-min-dz-m, --slice-max-dz-m, --wall-columns 0|1, --column-cell-m,
 // --wall-min-height-m, --wall-max-gap-m, --wall-top-clear-m, --wall-continuation-m, --icp-range-m,
 // --max-range-m, --unknown-empty-bins 0|1,
-// --clip-to-range 0|1, --scale-levels, --coarse-shift-keep, --mirror-score-margin,
+// --clip-to-range 0|1, --scale-levels, --coarse-shift-keep, --level-shift-half-width,
+// --full-shift-search 0|1, --mirror-score-margin,
 // --sketch-point-radius-m,
 // --settled-coverage,
 // --coverage-weight-m, --history 0|1, --history-radius-m, --history-min-inlier-ratio,
@@ -1046,6 +1047,8 @@ Options parse(int argc, char** argv) {
                         "clip-to-range",
                         "scale-levels",
                         "coarse-shift-keep",
+                        "level-shift-half-width",
+                        "full-shift-search",
                         "mirror-score-margin",
                         "sketch-point-radius-m",
                         "settled-coverage",
@@ -1144,6 +1147,11 @@ Options parse(int argc, char** argv) {
       static_cast<int>(args.integer("scale-levels", o.registration.scale_levels));
   o.registration.descriptor.coarse_shift_keep = static_cast<int>(
       args.integer("coarse-shift-keep", o.registration.descriptor.coarse_shift_keep));
+  o.registration.descriptor.level_shift_half_width = static_cast<int>(
+      args.integer("level-shift-half-width", o.registration.descriptor.level_shift_half_width));
+  o.registration.descriptor.full_shift_search_every_level =
+      args.integer("full-shift-search",
+                   o.registration.descriptor.full_shift_search_every_level ? 1 : 0) != 0;
   overrideNumber("mirror-score-margin", o.registration.descriptor.mirror_score_margin);
   overrideNumber("candidate-position-error-m", o.registration.verifier.candidate_position_error_m);
   overrideNumber("sketch-point-radius-m", o.registration.sketch_point_radius_m);

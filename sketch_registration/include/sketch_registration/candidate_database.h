@@ -26,15 +26,15 @@ struct RetrievalConfig {
   /// candidates is 6, 2-3 after downsampling, and the truth was often not among them (seen: a
   /// recorded cave flight never registered). No effect once eta N is larger (the paper's worlds).
   int min_ranked_candidates = 12;
-  SimilarityWeights weights;           ///< alpha_1..3
-  double downsample_radius_m = 3.0;    ///< sketch frame; raw candidates closer merge
+  SimilarityWeights weights;         ///< alpha_1..3
+  double downsample_radius_m = 3.0;  ///< sketch frame; raw candidates closer merge
   /// Bounds the triplet combinatorics. The paper has no such bound. At 120 the scaled paper
   /// garage (39 429 candidates, its 1 m grid nearly a world metre) lost the true place in 13 of
   /// 58 frames: more than 120 distinct places among its repeated bays ranked above it (77.6 %
   /// single-frame at eta 5 %; 94.8 % at 1000, frame median 159 -> 232 ms; the precise garage's
   /// 84 -> 95 ms).
   int max_candidates_per_frame = 1000;
-  bool try_reversed = true;            ///< also match the mirror image (mirrored sketches)
+  bool try_reversed = true;  ///< also match the mirror image (mirrored sketches)
   void validate() const;
 };
 
@@ -68,8 +68,10 @@ class CandidateDatabase {
   const std::vector<double>& rangeLevelsM() const { return levels_m_; }
   const DescriptorConfig& config() const { return config_; }
 
-  /// The `k` best candidates by combined similarity, best first (exact: the cheap shift-invariant
-  /// factors bound the score, so the costly shift search runs only where it can matter).
+  /// The `k` best candidates by combined similarity, best first: the top k of scoreAll (the cheap
+  /// shift-invariant factors bound the score, so the costly shift search runs only where it can
+  /// matter). A candidate's levels after its first are searched near that level's shift
+  /// (DescriptorConfig::level_shift_half_width).
   std::vector<Candidate> rank(const GeoContext& observed, size_t k, const SimilarityWeights& w,
                               bool try_reversed) const;
   /// Scores every candidate (evaluation and ablations; slow on purpose).
@@ -102,9 +104,12 @@ class CandidateDatabase {
                         const SimilarityWeights& w) const;
   /// Candidate i at level l with no similarity (an unusable descriptor).
   Candidate unscored(size_t i, int l) const;
-  /// Candidate i at level l, which must be valid, by the shift search.
+  /// Candidate i at level l, which must be valid, by the shift search. With `near_shift_code`
+  /// only the shifts within level_shift_half_width of *shift_code (shiftCode) are searched;
+  /// otherwise all, and the best one's code is written to *shift_code when that is given.
   Candidate score(size_t i, int l, const Invariants& inv, const ShiftTables& tables,
-                  const SimilarityWeights& w, bool try_reversed, GeoContext& scratch) const;
+                  const SimilarityWeights& w, bool try_reversed, GeoContext& scratch,
+                  int* shift_code = nullptr, bool near_shift_code = false) const;
   /// Candidate i's descriptor cut at level l: range_m and coarse_range_m only.
   void cutAt(size_t i, int l, GeoContext& out) const;
   const float* ranges(size_t i) const { return ranges_.data() + i * stride_; }
