@@ -36,7 +36,7 @@ struct DescriptorConfig {
   /// shift-invariant bound is highest gets the full coarse-to-fine search; the others, the same
   /// place cut at another range, search only the fine shifts within this many bins of the shift
   /// that level matched, in its orientation. On registration_bench (synthetic garage, 25 384
-  /// candidates, 7 levels) the frame median went from 261 to 158 ms CPU, every frame registering
+  /// candidates, 7 levels) the frame median went from 261 to 151 ms CPU, every frame registering
   /// as before (see sketch_registration/README.md for the paper-size worlds).
   int level_shift_half_width = 2;
   /// Every level gets the full search (level_shift_half_width unused).
