@@ -273,16 +273,14 @@ ShiftMatch refineShifts(const GeoContext& prior, const ShiftTables& tables,
 
 namespace {
 
-/// Coarse stage: the `keep` best coarse shifts, best first, coded orientation * n_coarse + coarse
-/// shift.
-void bestCoarseShifts(const GeoContext& prior, const ShiftTables& tables, bool try_reversed,
-                      int keep, std::vector<int>& codes) {
-  codes.clear();
-  const int nc = tables.n_coarse;
-  if (nc == 0 || static_cast<int>(prior.coarse_range_m.size()) != nc) return;
+/// Coarse stage: the `keep` best coarse shifts, best first, as fine centres (shiftCode).
+void bestCoarseCentres(const GeoContext& prior, const ShiftTables& tables, bool try_reversed,
+                       int keep, std::vector<int>& centres) {
+  centres.clear();
+  const int n = tables.n, nc = tables.n_coarse;
   const float sca = sumOf(prior.coarse_range_m.data(), nc);
   const float scb = sumOf(tables.coarse_plain.data(), nc);
-  thread_local std::vector<std::pair<float, int>> coarse;  // (score, code)
+  thread_local std::vector<std::pair<float, int>> coarse;  // (score, orientation * nc + shift)
   coarse.clear();
   for (int c = 0; c < nc; ++c) {
     coarse.emplace_back(
@@ -301,19 +299,12 @@ void bestCoarseShifts(const GeoContext& prior, const ShiftTables& tables, bool t
   keep = std::min<int>(keep, static_cast<int>(coarse.size()));
   std::partial_sort(coarse.begin(), coarse.begin() + keep, coarse.end(),
                     [](const auto& a, const auto& b) { return a.first > b.first; });
-  for (int q = 0; q < keep; ++q) codes.push_back(coarse[static_cast<size_t>(q)].second);
-}
-
-/// Fine stage: every fine shift within a coarse bin of each coded coarse shift.
-ShiftMatch refineCoarseShifts(const GeoContext& prior, const ShiftTables& tables,
-                              const std::vector<int>& codes, double mirror_margin) {
-  const int n = tables.n, nc = tables.n_coarse;
-  if (nc == 0 || n % nc != 0) return ShiftMatch{};
+  // Coarse bin j is centred on fine bin f * j, so a coarse shift c is the fine shift f * c.
   const int f = n / nc;
-  thread_local std::vector<int> centres;
-  centres.clear();
-  for (int code : codes) centres.push_back((code >= nc ? n : 0) + f * (code % nc));
-  return refineShifts(prior, tables, centres, f - 1, mirror_margin);
+  for (int q = 0; q < keep; ++q) {
+    const int code = coarse[static_cast<size_t>(q)].second;
+    centres.push_back((code >= nc ? n : 0) + f * (code % nc));
+  }
 }
 
 }  // namespace
@@ -324,9 +315,10 @@ ShiftMatch bestColumnShiftCoarseToFine(const GeoContext& prior, const ShiftTable
   if (nc == 0 || static_cast<int>(prior.coarse_range_m.size()) != nc || n % nc != 0) {
     return bestColumnShift(prior.range_m.data(), tables, try_reversed, mirror_margin);
   }
-  thread_local std::vector<int> codes;
-  bestCoarseShifts(prior, tables, try_reversed, keep, codes);
-  return refineCoarseShifts(prior, tables, codes, mirror_margin);
+  thread_local std::vector<int> centres;
+  bestCoarseCentres(prior, tables, try_reversed, keep, centres);
+  // Every fine shift within a coarse bin of each kept coarse shift.
+  return refineShifts(prior, tables, centres, n / nc - 1, mirror_margin);
 }
 
 ShiftMatch bestColumnShift(const float* prior, const ShiftTables& tables, bool try_reversed,
