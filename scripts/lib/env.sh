@@ -42,3 +42,17 @@ efs_require_shared_data() {
     "set EFS_SHARED_DATA_DIR to the folder holding ed21/ and pittsburgh_mine/"
   return 1
 }
+
+# Nothing was tested: still end with the summary line CI reads, and fail.
+efs_untested() {
+  echo "0 passed, 1 failed"
+  exit 1
+}
+
+# "FAILED TOTAL" from ctest's summary line in the log $1; fails when ctest printed none.
+efs_ctest_counts() {
+  local summary
+  summary=$(grep -E 'tests passed, [0-9]+ tests failed out of [0-9]+' "$1" | tail -1) || return 1
+  [[ -n $summary ]] || return 1
+  sed -E 's/.* ([0-9]+) tests failed out of ([0-9]+).*/\1 \2/' <<<"$summary"
+}

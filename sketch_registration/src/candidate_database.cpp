@@ -195,12 +195,12 @@ CandidateDatabase::Invariants CandidateDatabase::invariants(size_t i, int l,
 Candidate CandidateDatabase::score(size_t i, int l, const Invariants& inv,
                                    const ShiftTables& tables, const SimilarityWeights& w,
                                    bool try_reversed, GeoContext& scratch, int* shift_code,
-                                   bool near_shift_code) const {
+                                   bool later_level) const {
   Candidate c = unscored(i, l);
   if (tables.n == 0) return c;
   cutAt(i, l, scratch);
   ShiftMatch m;
-  if (near_shift_code && shift_code != nullptr) {
+  if (later_level && shift_code != nullptr && !config_.full_shift_search_every_level) {
     thread_local std::vector<int> centre(1);
     centre[0] = *shift_code;
     m = refineShifts(scratch, tables, centre, config_.level_shift_half_width,
@@ -251,8 +251,8 @@ std::vector<Candidate> CandidateDatabase::scoreAll(const GeoContext& observed,
                            scratch, &code, false);
     for (int l = 0; l < nl; ++l) {
       if (l == *first || !level(i, l).valid) continue;
-      const Candidate c = score(i, l, inv[static_cast<size_t>(l)], tables, w, try_reversed, scratch,
-                                &code, !config_.full_shift_search_every_level);
+      const Candidate c =
+          score(i, l, inv[static_cast<size_t>(l)], tables, w, try_reversed, scratch, &code, true);
       if (c.score > best.score) best = c;
     }
     out.push_back(best);
@@ -323,8 +323,8 @@ std::vector<Candidate> CandidateDatabase::rank(const GeoContext& observed, size_
     // Another level of a candidate already scored only matters if it may beat that score.
     if (scored && b.value <= best_score[i]) continue;
     const int l = static_cast<int>(b.pair % nl);
-    const Candidate c = score(i, l, inv[b.pair], tables, w, try_reversed, scratch, &first_shift[i],
-                              scored && !config_.full_shift_search_every_level);
+    const Candidate c =
+        score(i, l, inv[b.pair], tables, w, try_reversed, scratch, &first_shift[i], scored);
     if (scored) {
       if (!(c.score > best_score[i])) continue;
       top.erase({best_score[i], static_cast<int>(i)});  // absent when it was trimmed: no-op

@@ -104,12 +104,13 @@ class CandidateDatabase {
                         const SimilarityWeights& w) const;
   /// Candidate i at level l with no similarity (an unusable descriptor).
   Candidate unscored(size_t i, int l) const;
-  /// Candidate i at level l, which must be valid, by the shift search. With `near_shift_code`
-  /// only the shifts within level_shift_half_width of *shift_code (shiftCode) are searched;
-  /// otherwise all, and the best one's code is written to *shift_code when that is given.
+  /// Candidate i at level l, which must be valid, by the shift search. A `later_level` of the
+  /// candidate (not its first) searches only within level_shift_half_width of *shift_code
+  /// (shiftCode), unless full_shift_search_every_level; a full search writes its best shift's
+  /// code to *shift_code when that is given.
   Candidate score(size_t i, int l, const Invariants& inv, const ShiftTables& tables,
                   const SimilarityWeights& w, bool try_reversed, GeoContext& scratch,
-                  int* shift_code = nullptr, bool near_shift_code = false) const;
+                  int* shift_code = nullptr, bool later_level = false) const;
   /// Candidate i's descriptor cut at level l: range_m and coarse_range_m only.
   void cutAt(size_t i, int l, GeoContext& out) const;
   const float* ranges(size_t i) const { return ranges_.data() + i * stride_; }
