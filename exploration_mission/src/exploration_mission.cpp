@@ -80,6 +80,8 @@ void MissionConfig::validate() const {
   requireInRange("time_limit_s", time_limit_s, 1.0, 1e6);
   requireInRange("coverage_goal", coverage_goal, 0.01, 1.0);
   requireInRange("trajectory_log_period_s", trajectory_log_period_s, 0.01, 100.0);
+  requireInRange("planner_scan_latency_s", planner_scan_latency_s, 0.0, 10.0);
+  requireInRange("planner_update_rate_hz", planner_update_rate_hz, 0.0, 1000.0);
 }
 
 ExplorationMission::ExplorationMission(const MissionConfig& config,
@@ -249,7 +251,12 @@ void ExplorationMission::onScan() {
   const planner::ExplorationTarget* target = nullptr;
   {
     CpuTimer timer(log_.planner_cpu_s);
-    exploration_->insertScan(sensor_m, scan.points_world);
+    late_scans_.push_back({t, sensor_m, scan.points_world});
+    while (!late_scans_.empty() &&
+           late_scans_.front().time_s + config_.planner_scan_latency_s <= t + 1e-9) {
+      exploration_->insertScan(late_scans_.front().origin_world_m, late_scans_.front().points);
+      late_scans_.pop_front();
+    }
     if (config_.record_map) {
       mission_map_.insertScan(sensor_m, scan.points_world);
       mission_map_.addPose(t, sensor_m, robot.yaw_rad);
@@ -263,6 +270,10 @@ void ExplorationMission::onScan() {
       registration_map_.insert(scan.points_world, sensor_m);
     }
     if (registration_frames_.due(t)) onRegistrationFrame(t);
+  }
+  if (config_.planner_update_rate_hz > 0.0) {
+    if (t + 1e-9 < next_planner_update_s_) return;
+    next_planner_update_s_ = t + 1.0 / config_.planner_update_rate_hz;
   }
   {
     CpuTimer timer(log_.planner_cpu_s);

@@ -49,6 +49,9 @@ Method and limits:
   --method M            proposed | prior_free | greedy_prior | nearest_frontier (default proposed)
   --time-limit S        simulated seconds                           (default 600)
   --progress S          progress line every S simulated seconds     (default 10)
+Fault injection:
+  --planner-scan-latency S  scans reach the planner S s late         (default 0)
+  --planner-rate HZ     target updates per second (default 0: every scan)
 )";
 
 }  // namespace
@@ -57,7 +60,8 @@ int main(int argc, char** argv) {
   using namespace efs;
   try {
     std::set<std::string> options = mission::missionSpecOptions();
-    options.insert({"start-index", "time-limit", "progress", "out"});
+    options.insert(
+        {"start-index", "time-limit", "progress", "planner-scan-latency", "planner-rate", "out"});
     const CliArgs args(argc, argv, options, {"help"});
     if (args.flag("help")) {
       std::cout << kUsage;
@@ -68,6 +72,8 @@ int main(int argc, char** argv) {
     mission::MissionConfig config;
     config.session.start_index = static_cast<int>(args.integer("start-index", 0));
     config.time_limit_s = args.number("time-limit", 600.0);
+    config.planner_scan_latency_s = args.number("planner-scan-latency", 0.0);
+    config.planner_update_rate_hz = args.number("planner-rate", 0.0);
     std::filesystem::create_directories(out_dir);
 
     const Stopwatch wall;

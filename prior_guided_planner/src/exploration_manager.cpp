@@ -27,6 +27,7 @@ void ExplorationManagerConfig::validate() const {
   requireInRange("target_reached_m", target_reached_m, 1e-3, 1e3);
   requireInRange("target_progress_m", target_progress_m, 0.0, 1e3);
   requireInRange("target_progress_timeout_s", target_progress_timeout_s, 0.1, 1e6);
+  requireInRange("finish_confirmation_s", finish_confirmation_s, 0.0, 600.0);
   requireInRange("unreachable_retry_s", unreachable_retry_s, 0.0, 1e6);
   requireInRange("unreachable_attempts", unreachable_attempts, 1, 1000);
   requireInRange("fine_path_resolution_factor", fine_path_resolution_factor, 1, 8);
@@ -268,13 +269,17 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   int set_aside = 0;
   int given_up = 0;
   int looked_at = 0;
+  int reached_alive = 0;
   for (auto it = looked_at_cells_.begin(); it != looked_at_cells_.end();)
     it = observation_.isFrontier(*it) ? std::next(it) : looked_at_cells_.erase(it);
   std::map<int, bool> cluster_looked_at;
   // Alive, not reached, not set aside, not given up: a candidate.
   const auto candidate = [&](int id, bool reached) {
     alive.insert(id);
-    if (reached) return false;
+    if (reached) {
+      ++reached_alive;
+      return false;
+    }
     if (givenUp(id)) {
       ++given_up;
       return false;
@@ -293,7 +298,7 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
     vps.clear();
     vp_cluster.clear();
     alive.clear();
-    set_aside = given_up = looked_at = moved_openings = 0;
+    set_aside = given_up = looked_at = moved_openings = reached_alive = 0;
     for (const Viewpoint& v : viewpoint_manager_.all()) {
       if (!candidate(v.id, reached_viewpoint_ids_.count(v.id) > 0)) continue;
       const auto memo = cluster_looked_at.try_emplace(v.cluster_id, false);
@@ -412,6 +417,7 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   goal_refused_ = false;
 
   const PlanningResult& plan = *last_plan_;
+  if (plan.status != PlanningStatus::kNoViewpoints) nothing_left_.reset();
   target_.replanned = true;
   target_.mode_used = plan.mode_used;
   target_.active_hypothesis_id =
@@ -420,9 +426,25 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   target_.has_goal = false;
   target_.goal_viewpoint_id.reset();
   switch (plan.status) {
-    case PlanningStatus::kNoViewpoints:
+    case PlanningStatus::kNoViewpoints: {
+      if (!nothing_left_) nothing_left_ = NothingLeft{time_s, stats_.scans_inserted};
+      const double held_s = time_s - nothing_left_->since_s;
+      if (config_.finish_confirmation_s > 0.0 &&
+          (held_s < config_.finish_confirmation_s ||
+           stats_.scans_inserted == nothing_left_->scans_inserted)) {
+        target_.state = ExplorationState::kExploring;
+        std::ostringstream os;
+        os << "no viewpoint remains for " << std::round(10.0 * held_s) / 10.0
+           << " s: the end is confirmed after " << config_.finish_confirmation_s
+           << " s with new scans";
+        plan_message_ = os.str();
+        return;
+      }
       target_.state = ExplorationState::kFinished;
       plan_message_ = "no viewpoint remains: exploration finished";
+      if (reached_alive > 0)
+        plan_message_ += " (" + std::to_string(reached_alive) +
+                         " reached and still there: its frontier or opening not cleared from it)";
       if (looked_at > 0)
         plan_message_ += " (" + std::to_string(looked_at) +
                          " left whose frontier was looked at from a reached viewpoint)";
@@ -431,6 +453,7 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
                          " left unvisited, given up as unreachable after " +
                          std::to_string(config_.unreachable_attempts) + " attempt(s) each)";
       return;
+    }
     case PlanningStatus::kNoReachableViewpoint:
       // Each is one attempt: the next update plans again, and those the search never reaches
       // are given up in the end.

@@ -8,8 +8,10 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <set>
 #include <utility>
 #include <vector>
@@ -140,6 +142,8 @@ TEST(ExplorationManager, AReachedViewpointsClusterIsNotTargetedAgain) {
   ExplorationManagerConfig c;
   c.tour_lookahead_m = 0.0;  // the goal is the viewpoint, look_at its cluster's centroid
   c.observation.facing_min_cosine = testing::kStrictFacingMinCosine;
+  // No scan comes while the robot stands at the targets: the end is taken at once.
+  c.finish_confirmation_s = 0.0;
   ExplorationManagerConfig off = c;
   off.skip_looked_at_clusters = false;
   // The targets after standing (unscanned) at each of the first `steps` targets in turn.
@@ -188,6 +192,7 @@ TEST(ExplorationManager, TargetsWithoutProgressAreRetriedThenGivenUp) {
   c.target_progress_timeout_s = 10.0;
   c.unreachable_retry_s = 5000.0;
   c.unreachable_attempts = 2;
+  c.finish_confirmation_s = 0.0;  // no scan comes while the robot hovers
   ExplorationManager m(c, std::nullopt);
   const Eigen::Vector3d start(2.0, 0.1, 1.6);
   scanFrom(m, room, start);
@@ -352,6 +357,7 @@ TEST(ExplorationManager, EveryGoalRefusedEndsTheExplorationWithTheLeftoversNamed
   ExplorationManagerConfig c;
   c.unreachable_retry_s = 1e5;
   c.unreachable_attempts = 2;
+  c.finish_confirmation_s = 0.0;  // no scan comes while the robot hovers
   ExplorationManager m(c, std::nullopt);
   const Eigen::Vector3d start = corridorStart();
   scanCorridor(m);
@@ -463,23 +469,32 @@ TEST(ExplorationManager, TheGoalLiesAheadAlongTheTour) {
   (void)off_first;
 }
 
-// Flying from goal to goal (a scan at each) explores the closed room; the manager then reports
-// kFinished, and each reached goal moved on. The room is a 40 m corridor: a surface counts as
-// well observed from 12 m, so the 15.6 m one would be done after a single goal.
+// Flying from goal to goal (a scan at each) explores the closed room; once no viewpoint is left
+// the manager holds for finish_confirmation_s, then reports kFinished, and each reached goal
+// moved on. The room is a 40 m corridor: a surface counts as well observed from 12 m, so the
+// 15.6 m one would be done after a single goal.
 TEST(ExplorationManager, ClosedLoopFinishesAClosedRoom) {
   Scene room = corridorRoom();
   room.room.hi.x() = 39.75;
-  ExplorationManager m(ExplorationManagerConfig{}, std::nullopt);
+  const ExplorationManagerConfig c;
+  ExplorationManager m(c, std::nullopt);
   Eigen::Vector3d pos(2.0, 0.1, 1.6);
   scanFrom(m, room, pos);
   double t_s = 0.0;
   int goals = 0;
+  std::optional<double> nothing_left_s;
   for (int step = 0; step < 60; ++step) {
     const ExplorationTarget& t = m.update(t_s, at(pos));
-    t_s += 0.5;
     if (t.state == ExplorationState::kFinished) break;
     ASSERT_EQ(t.state, ExplorationState::kExploring) << t.message;
-    ASSERT_TRUE(t.has_goal);
+    t_s += 0.5;
+    if (!t.has_goal) {  // nothing left: the end is being confirmed, the scans go on
+      EXPECT_NE(t.message.find("no viewpoint remains for"), std::string::npos) << t.message;
+      if (!nothing_left_s) nothing_left_s = t_s - 0.5;
+      scanFrom(m, room, pos);
+      continue;
+    }
+    ASSERT_FALSE(nothing_left_s) << "a viewpoint came back without anything new seen";
     EXPECT_GT((t.goal_world_m - pos).norm(), 1e-6) << "the goal must move on when reached";
     EXPECT_TRUE(room.room.lo.x() < t.goal_world_m.x() && t.goal_world_m.x() < room.room.hi.x());
     pos = t.goal_world_m;
@@ -490,8 +505,62 @@ TEST(ExplorationManager, ClosedLoopFinishesAClosedRoom) {
   EXPECT_FALSE(m.target().has_goal);
   EXPECT_GE(goals, 2);
   EXPECT_TRUE(m.viewpoints().empty());
+  ASSERT_TRUE(nothing_left_s);
+  EXPECT_GE(t_s - *nothing_left_s, c.finish_confirmation_s);
+  EXPECT_LE(t_s - *nothing_left_s, c.finish_confirmation_s + 0.5);
   // Being finished is stable while nothing new is seen.
   EXPECT_EQ(m.update(t_s + 10.0, at(pos)).state, ExplorationState::kFinished);
+}
+
+// "No viewpoint remains" is the end only once it held finish_confirmation_s with new scans
+// inserted meanwhile (a map can sit between two ways on); a viewpoint that appears meanwhile
+// starts the exploration again. Hovering without scans (a stalled LIO) never finishes.
+TEST(ExplorationManager, TheEndIsConfirmedOnlyAfterItHeldWithNewScans) {
+  const Scene room = corridorRoom();
+  ExplorationManagerConfig c;
+  c.finish_confirmation_s = 2.0;
+  // Every corner seen from a few places: nothing is left to plan for.
+  const std::vector<Eigen::Vector3d> places = {
+      {2.0, 0.1, 1.6}, {8.0, 0.1, 1.6}, {13.5, 0.1, 1.6}, {8.0, -2.0, 0.8}, {8.0, 2.0, 2.4}};
+  const auto explored = [&](const ExplorationManagerConfig& config) {
+    auto m = std::make_unique<ExplorationManager>(config, std::nullopt);
+    for (const Eigen::Vector3d& p : places) scanFrom(*m, room, p);
+    return m;
+  };
+  const Eigen::Vector3d pos = places[1];
+  {
+    auto m = explored(c);
+    const ExplorationTarget& t = m->update(0.0, at(pos));
+    ASSERT_EQ(t.state, ExplorationState::kExploring) << t.message;
+    ASSERT_FALSE(t.has_goal) << "the scene must leave no viewpoint";
+    EXPECT_NE(t.message.find("no viewpoint remains for 0 s"), std::string::npos) << t.message;
+    // Long enough, but no scan came: not the end.
+    EXPECT_EQ(m->update(5.0, at(pos)).state, ExplorationState::kExploring);
+    scanFrom(*m, room, pos);
+    EXPECT_EQ(m->update(5.1, at(pos)).state, ExplorationState::kFinished) << m->target().message;
+  }
+  {
+    auto m = explored(c);
+    m->update(0.0, at(pos));
+    scanFrom(*m, room, pos);
+    EXPECT_EQ(m->update(1.0, at(pos)).state, ExplorationState::kExploring);  // too soon
+    // The far wall turns out to be a door: the corridor goes on, and so does the exploration.
+    Scene longer = room;
+    longer.room.hi.x() = 30.75;
+    for (int i = 0; i < 3; ++i) scanFrom(*m, longer, places[2]);
+    const ExplorationTarget& t = m->update(1.5, at(places[2]));
+    EXPECT_NE(t.state, ExplorationState::kFinished) << t.message;
+    EXPECT_FALSE(m->viewpoints().empty()) << t.message;
+    // Past the confirmation time of the first "nothing left", the corridor still is not done.
+    scanFrom(*m, longer, places[2]);
+    EXPECT_NE(m->update(2.5, at(places[2])).state, ExplorationState::kFinished);
+  }
+  {
+    ExplorationManagerConfig at_once = c;
+    at_once.finish_confirmation_s = 0.0;
+    auto m = explored(at_once);
+    EXPECT_EQ(m->update(0.0, at(pos)).state, ExplorationState::kFinished);
+  }
 }
 
 TEST(ExplorationManager, NonFiniteInputIsDroppedAndReported) {
@@ -629,6 +698,9 @@ TEST(ExplorationManager, ConfigErrorsNameTheKey) {
   c = ExplorationManagerConfig{};
   c.target_progress_timeout_s = 0.0;
   expectKey(c, "target_progress_timeout_s");
+  c = ExplorationManagerConfig{};
+  c.finish_confirmation_s = -1.0;
+  expectKey(c, "finish_confirmation_s");
   c = ExplorationManagerConfig{};
   c.unreachable_retry_s = -1.0;
   expectKey(c, "unreachable_retry_s");

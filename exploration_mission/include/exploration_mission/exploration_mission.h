@@ -10,6 +10,7 @@
 // viewpoint remains, on a collision, or at the time limit.
 #pragma once
 
+#include <deque>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -155,6 +156,14 @@ class ExplorationMission {
   traj::TrajectoryServer trajectory_;
   control::Se3Controller controller_;
   MissionLog log_;
+  struct LateScan {
+    double time_s;
+    Eigen::Vector3d origin_world_m;
+    std::vector<Eigen::Vector3f> points;
+  };
+  /// Scans on their way to the planner (MissionConfig::planner_scan_latency_s).
+  std::deque<LateScan> late_scans_;
+  double next_planner_update_s_ = 0.0;
   uint64_t last_scan_seq_ = 0;
   double dt_control_s_;
   double next_trajectory_log_s_ = 0.0;

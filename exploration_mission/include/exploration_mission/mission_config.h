@@ -33,6 +33,13 @@ struct MissionConfig {
   double time_limit_s = 2000.0;    ///< simulated seconds (paper protocol)
   double coverage_goal = 0.95;     ///< a run below this coverage counts as failed
   double trajectory_log_period_s = 0.5;
+  /// Fault injection: each scan reaches the exploration planner this long after it was taken
+  /// [s], while odometry stays current (a loaded onboard computer, or a map node behind the
+  /// odometry). 0: at once, as the nodes see it on an idle machine.
+  double planner_scan_latency_s = 0.0;
+  /// The planner's target is updated at this rate, as the node's timer does (plan_rate_hz);
+  /// 0: after every scan.
+  double planner_update_rate_hz = 0.0;
   /// Throws efs::ConfigError naming the key (also for any sub-config).
   void validate() const;
 };

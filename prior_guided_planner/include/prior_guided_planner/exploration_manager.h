@@ -14,7 +14,8 @@
 // gets new ids), so the robot never circles a frontier the scans cannot clear. A far target is
 // handed on in stages along its searched path (max_goal_distance_m), the next stage planned once
 // the robot is half-way to the current one. kFinished when no viewpoint remains, or when the only
-// ones left were given up: a viewpoint set aside unreachable_attempts times (no progress toward it,
+// ones left were given up, and that held finish_confirmation_s with new scans meanwhile: a
+// viewpoint set aside unreachable_attempts times (no progress toward it,
 // the local planner found no way, the path search found none) is not planned for again. Set-aside
 // viewpoints come back after unreachable_retry_s, or at once when nothing else is left, so a flight
 // never hovers for ever in front of viewpoints it cannot reach (seen: the ROS planner retrying five
@@ -100,6 +101,13 @@ struct ExplorationManagerConfig {
   double target_progress_m = 0.5;
   double target_progress_timeout_s = 10.0;
   double unreachable_retry_s = 60.0;
+  /// "No viewpoint remains" ends the exploration only once it has held this long [s], with new
+  /// scans inserted meanwhile; until then the target stays unset and every update plans again.
+  /// One map can sit between two ways on: the frontiers of a passage observed, the opening
+  /// beyond it not yet min_cells large. Seen in CI: rostest.mission_lio_dropout (small cave)
+  /// "finished" 10 s into a flight the same launch files end at 98 % after 25-37 s. 0: the
+  /// first such plan finishes.
+  double finish_confirmation_s = 1.0;
   /// A viewpoint set aside this many times is given up for good (counted in
   /// ExplorationInputStats::viewpoints_given_up and named when the exploration finishes).
   int unreachable_attempts = 2;
@@ -323,6 +331,13 @@ class ExplorationManager {
   };
   static constexpr double kRefusedGoalRadius_m = 0.5;
   std::vector<RefusedGoal> refused_goals_;
+  /// Since when, and after how many inserted scans, plans have found no viewpoint
+  /// (finish_confirmation_s); unset while they find some.
+  struct NothingLeft {
+    double since_s;
+    size_t scans_inserted;
+  };
+  std::optional<NothingLeft> nothing_left_;
   /// Progress toward the current target (target_progress_m).
   struct Progress {
     int viewpoint_id;

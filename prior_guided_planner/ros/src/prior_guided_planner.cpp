@@ -57,6 +57,7 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("target_progress_timeout_s", e.target_progress_timeout_s);
   p.get("unreachable_retry_s", e.unreachable_retry_s);
   p.get("unreachable_attempts", e.unreachable_attempts);
+  p.get("finish_confirmation_s", e.finish_confirmation_s);
   p.get("unreachable_near_m", e.unreachable_near_m);
   p.get("skip_looked_at_clusters", e.skip_looked_at_clusters);
   p.get("looked_at_fraction", e.looked_at_fraction);
