@@ -190,9 +190,12 @@ inline float sumOf(const float* x, int n) { return Eigen::Map<const Eigen::Array
 /// few empty positions are subtracted rather than the window masked: a mask pass per shift made
 /// retrieval 67-79 % slower, this 25-30 %.
 inline double windowScore(const float* prior, float sum_prior, const std::vector<float>& table,
-                          const std::vector<int>& unseen, int start, int n, float sum_observed) {
-  for (int p : unseen) {
-    if (p >= start && p < start + n) sum_prior -= prior[p - start];
+                          const std::vector<int>& unseen, const std::vector<int>& first_unseen,
+                          int start, int n, float sum_observed) {
+  const int end = start + n;
+  for (size_t k = static_cast<size_t>(first_unseen[static_cast<size_t>(start)]);
+       k < unseen.size() && unseen[k] < end; ++k) {
+    sum_prior -= prior[unseen[k] - start];
   }
   return inverseCosineWithSums(prior, table.data() + start, n, sum_prior, sum_observed);
 }
@@ -205,6 +208,20 @@ std::vector<int> emptyPositions(const std::vector<float>& table, bool wanted) {
   }
   return out;
 }
+
+/// first[s]: the index in `positions` (ascending) of the first position >= s, s = 0..size.
+std::vector<int> firstAtOrAfter(const std::vector<int>& positions, size_t size) {
+  std::vector<int> first(size + 1);
+  size_t k = 0;
+  for (size_t s = 0; s <= size; ++s) {
+    while (k < positions.size() && positions[k] < static_cast<int>(s)) ++k;
+    first[s] = static_cast<int>(k);
+  }
+  return first;
+}
+
+/// m mod n in [0, n) for n > 0, whatever the sign of m.
+inline int wrapShift(int m, int n) { return (m % n + n) % n; }
 
 }  // namespace
 
@@ -236,6 +253,10 @@ ShiftTables::ShiftTables(const GeoContext& observed, bool empty_is_unknown) {
   unseen_reversed = emptyPositions(reversed, empty_is_unknown);
   unseen_coarse_plain = emptyPositions(coarse_plain, empty_is_unknown);
   unseen_coarse_reversed = emptyPositions(coarse_reversed, empty_is_unknown);
+  first_unseen_plain = firstAtOrAfter(unseen_plain, plain.size());
+  first_unseen_reversed = firstAtOrAfter(unseen_reversed, reversed.size());
+  first_unseen_coarse_plain = firstAtOrAfter(unseen_coarse_plain, coarse_plain.size());
+  first_unseen_coarse_reversed = firstAtOrAfter(unseen_coarse_reversed, coarse_reversed.size());
 }
 
 namespace {
@@ -256,13 +277,15 @@ ShiftMatch refineShifts(const GeoContext& prior, const ShiftTables& tables,
   for (int centre : centres) {
     const bool rev = centre >= n;
     ShiftMatch& best = rev ? best_mirrored : best_plain;
-    for (int d = -half_width; d <= half_width; ++d) {
-      const int shift = ((centre % n + d) % n + n) % n;
+    // Shifts step by one from the first: a wrap by comparison, not an integer division a window.
+    int shift = wrapShift(wrapShift(centre, n) - half_width, n);
+    for (int d = -half_width; d <= half_width; ++d, shift = shift + 1 == n ? 0 : shift + 1) {
       // Plain: window at `shift`; mirrored: shift n' is the window at -n'.
-      const double v = rev ? windowScore(prior.range_m.data(), sa, tables.reversed,
-                                         tables.unseen_reversed, (n - shift) % n, n, sb)
-                           : windowScore(prior.range_m.data(), sa, tables.plain,
-                                         tables.unseen_plain, shift, n, sb);
+      const double v =
+          rev ? windowScore(prior.range_m.data(), sa, tables.reversed, tables.unseen_reversed,
+                            tables.first_unseen_reversed, shift == 0 ? 0 : n - shift, n, sb)
+              : windowScore(prior.range_m.data(), sa, tables.plain, tables.unseen_plain,
+                            tables.first_unseen_plain, shift, n, sb);
       if (v > best.score) best = ShiftMatch{v, shift, rev, 0.0};
     }
   }
@@ -285,24 +308,45 @@ void bestCoarseCentres(const GeoContext& prior, const ShiftTables& tables, bool 
   for (int c = 0; c < nc; ++c) {
     coarse.emplace_back(
         static_cast<float>(windowScore(prior.coarse_range_m.data(), sca, tables.coarse_plain,
-                                       tables.unseen_coarse_plain, c, nc, scb)),
+                                       tables.unseen_coarse_plain, tables.first_unseen_coarse_plain,
+                                       c, nc, scb)),
         c);
   }
   if (try_reversed) {
     for (int m = 0; m < nc; ++m) {
       coarse.emplace_back(
           static_cast<float>(windowScore(prior.coarse_range_m.data(), sca, tables.coarse_reversed,
-                                         tables.unseen_coarse_reversed, m, nc, scb)),
+                                         tables.unseen_coarse_reversed,
+                                         tables.first_unseen_coarse_reversed, m, nc, scb)),
           nc + (nc - m) % nc);
     }
   }
   keep = std::min<int>(keep, static_cast<int>(coarse.size()));
-  std::partial_sort(coarse.begin(), coarse.begin() + keep, coarse.end(),
-                    [](const auto& a, const auto& b) { return a.first > b.first; });
+  // The keep best, best first. Where the keep + 1 best scores are distinct (nearly always) they
+  // are found in one pass; with a tie among them, partial_sort decides, as it always has (which
+  // of equal scores comes first is its heap's doing, and the fine stage follows that order).
+  constexpr int kMaxTracked = 8;
+  std::pair<float, int> best[kMaxTracked];
+  int tracked = 0;
+  const int wanted = std::min(keep + 1, static_cast<int>(coarse.size()));
+  bool distinct = wanted <= kMaxTracked;
+  if (distinct) {
+    for (const auto& entry : coarse) {
+      if (tracked == wanted && !(entry.first > best[tracked - 1].first)) continue;
+      int q = tracked < wanted ? tracked++ : tracked - 1;
+      for (; q > 0 && best[q - 1].first < entry.first; --q) best[q] = best[q - 1];
+      best[q] = entry;
+    }
+    for (int q = 0; q + 1 < tracked; ++q) distinct = distinct && best[q].first > best[q + 1].first;
+  }
+  if (!distinct) {
+    std::partial_sort(coarse.begin(), coarse.begin() + keep, coarse.end(),
+                      [](const auto& a, const auto& b) { return a.first > b.first; });
+  }
   // Coarse bin j is centred on fine bin f * j, so a coarse shift c is the fine shift f * c.
   const int f = n / nc;
   for (int q = 0; q < keep; ++q) {
-    const int code = coarse[static_cast<size_t>(q)].second;
+    const int code = distinct ? best[q].second : coarse[static_cast<size_t>(q)].second;
     centres.push_back((code >= nc ? n : 0) + f * (code % nc));
   }
 }
@@ -328,12 +372,14 @@ ShiftMatch bestColumnShift(const float* prior, const ShiftTables& tables, bool t
   if (n == 0) return plain;
   const float sa = sumOf(prior, n), sb = sumOf(tables.plain.data(), n);
   for (int s = 0; s < n; ++s) {
-    const double v = windowScore(prior, sa, tables.plain, tables.unseen_plain, s, n, sb);
+    const double v = windowScore(prior, sa, tables.plain, tables.unseen_plain,
+                                 tables.first_unseen_plain, s, n, sb);
     if (v > plain.score) plain = ShiftMatch{v, s, false, 0.0};
   }
   if (try_reversed) {
     for (int m = 0; m < n; ++m) {
-      const double v = windowScore(prior, sa, tables.reversed, tables.unseen_reversed, m, n, sb);
+      const double v = windowScore(prior, sa, tables.reversed, tables.unseen_reversed,
+                                   tables.first_unseen_reversed, m, n, sb);
       if (v > mirrored.score) mirrored = ShiftMatch{v, (n - m) % n, true, 0.0};
     }
   }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "efs_common/angles.h"
 #include "efs_common/config_check.h"
@@ -209,12 +210,22 @@ void MultiFrameVerifier::cluster() {
     tracks_.resize(static_cast<size_t>(config_.max_tracks));
   }
   const size_t n = std::min(tracks_.size(), static_cast<size_t>(config_.max_cluster_input));
+  // DBSCAN asks all n^2 / 2 pairs (up to ~10^6) whether they are within eps, and most lie far
+  // apart: the translation term alone, which transformDistance adds to other non-negative ones,
+  // answers for those (one coordinate's, a hair short of the norm, as a lower bound of it).
+  const TransformDistanceWeights& w = config_.lambda;
+  const double eps = config_.dbscan_eps;
+  const bool translation_bounds = w.lambda_t > 0.0 && w.lambda_r >= 0.0 && w.lambda_s >= 0.0;
   const std::vector<int> label =
-      dbscan(n, config_.dbscan_eps, static_cast<size_t>(config_.dbscan_min_points),
-             [&](size_t i, size_t j) {
-               return transformDistance(tracks_[i].T_world_sketch, tracks_[j].T_world_sketch,
-                                        config_.lambda);
-             });
+      dbscan(n, eps, static_cast<size_t>(config_.dbscan_min_points), [&](size_t i, size_t j) {
+        const Sim2& a = tracks_[i].T_world_sketch;
+        const Sim2& b = tracks_[j].T_world_sketch;
+        if (translation_bounds &&
+            w.lambda_t * (a.t_m - b.t_m).cwiseAbs().maxCoeff() > eps * (1.0 + 1e-9)) {
+          return std::numeric_limits<double>::infinity();
+        }
+        return transformDistance(a, b, w);
+      });
   int num_clusters = 0;
   for (int l : label) num_clusters = std::max(num_clusters, l + 1);
   std::vector<int> best(static_cast<size_t>(num_clusters), -1), size(best.size(), 0);

@@ -67,13 +67,47 @@ std::pair<Eigen::Vector2d, Eigen::Vector2d> extentOf(const PointKdTree2d::Points
 }
 }  // namespace
 
+SketchWalls::SketchWalls(PointKdTree2d::Points points_m, const Eigen::Vector2d& box_min_m,
+                         const Eigen::Vector2d& box_max_m)
+    : nearest_(std::move(points_m), box_min_m, box_max_m) {
+  const Eigen::Vector2d extent = box_max_m - box_min_m;
+  // Without points or a proper box every bound is 0 (nx_ = ny_ = 0: nothing is skipped).
+  if (nearest_.size() == 0 || !box_min_m.allFinite() || !extent.allFinite() ||
+      !(extent.minCoeff() > 0.0)) {
+    return;
+  }
+  // Twice the nearest-point grid's cells: a quarter of its cell count to build, and the bound
+  // (the cell centre's distance less the half-diagonal) still within a cell or two of the truth
+  // where it matters, a capture radius of metres.
+  const double cell = 2.0 * nearest_.cellSize();
+  const auto count = [&](double span) { return std::max(1.0, std::ceil(span / cell)); };
+  min_m_ = box_min_m;
+  inv_cell_ = 1.0 / cell;
+  nx_ = count(extent.x());
+  ny_ = count(extent.y());
+  const size_t nx = static_cast<size_t>(nx_), ny = static_cast<size_t>(ny_);
+  clearance_m_.resize(nx * ny);
+  // A query assigned to a cell lies within the half-diagonal of its centre, give or take the
+  // rounding of the cell index, which the relative and absolute slack cover many times over.
+  const double reach = 0.5 * std::sqrt(2.0) * cell * (1.0 + 1e-9) + 1e-9 * cell;
+  for (size_t iy = 0; iy < ny; ++iy) {
+    for (size_t ix = 0; ix < nx; ++ix) {
+      const Eigen::Vector2d c = min_m_ + cell * Eigen::Vector2d(ix + 0.5, iy + 0.5);
+      const double bound = std::sqrt(nearest_.tree().nearest(c).second) * (1.0 - 1e-9) - reach;
+      float f = static_cast<float>(std::max(0.0, bound));
+      if (f > bound) f = std::max(0.0f, std::nextafter(f, 0.0f));
+      clearance_m_[iy * nx + ix] = f;
+    }
+  }
+}
+
 ScaleIcp::SketchIndex ScaleIcp::indexSketch(const Points2d& sketch_points_m, double margin_m) {
   PointKdTree2d::Points pts;
   for (const auto& p : sketch_points_m) {
     if (p.allFinite()) pts.push_back(p);
   }
   const auto [lo, hi] = extentOf(pts, margin_m);
-  return std::make_shared<const NearestPointGrid2d>(std::move(pts), lo, hi);
+  return std::make_shared<const SketchWalls>(std::move(pts), lo, hi);
 }
 
 ScaleIcp::ScaleIcp(const Points2d& sketch_points_m, const ScaleIcpConfig& config)
@@ -82,8 +116,8 @@ ScaleIcp::ScaleIcp(const Points2d& sketch_points_m, const ScaleIcpConfig& config
 ScaleIcp::ScaleIcp(SketchIndex sketch, const ScaleIcpConfig& config)
     : config_(config), sketch_(std::move(sketch)) {
   config_.validate();
-  if (!sketch_) sketch_ = std::make_shared<const NearestPointGrid2d>();
-  std::tie(box_min_, box_max_) = extentOf(sketch_->points(), config_.sketch_margin_m);
+  if (!sketch_) sketch_ = std::make_shared<const SketchWalls>();
+  std::tie(box_min_, box_max_) = extentOf(sketch_->nearest().points(), config_.sketch_margin_m);
 }
 
 namespace {
@@ -99,7 +133,11 @@ namespace {
 class Mapping {
  public:
   explicit Mapping(const Sim2& T)
-      : T_(T), linear_(T.linear()), inverse_(T.inverse()), inverse_linear_(inverse_.linear()) {}
+      : T_(T),
+        linear_(T.linear()),
+        inverse_(T.inverse()),
+        inverse_linear_(inverse_.linear()),
+        min_gain_(T.scale * std::min(T.stretch, 1.0 / T.stretch)) {}
   Eigen::Vector2d toWorld(const Eigen::Vector2d& c) const { return linear_ * c + T_.t_m; }
   Eigen::Vector2d toSketch(const Eigen::Vector2d& p) const {
     return inverse_linear_ * p + inverse_.t_m;
@@ -110,12 +148,19 @@ class Mapping {
   double worldDistance(const Eigen::Vector2d& c, double d2_sketch, const Eigen::Vector2d& p) const {
     return T_.isSimilarity() ? T_.scale * std::sqrt(d2_sketch) : (toWorld(c) - p).norm();
   }
+  /// A lower bound of worldDistance() for a query whose preimage lies at least
+  /// `clearance_sketch_m` from every sketch point: the linear part's smallest gain (scale /
+  /// stretch) times that, less a micrometre for the rounding of the preimage.
+  double worldDistanceAtLeast(double clearance_sketch_m) const {
+    return min_gain_ * (clearance_sketch_m - 1e-6);
+  }
 
  private:
   Sim2 T_;
   Eigen::Matrix2d linear_;
   Sim2 inverse_;
   Eigen::Matrix2d inverse_linear_;
+  double min_gain_;
 };
 
 /// Trimmed mean of the `ratio` smallest values and the fraction of values <= `inlier`.
@@ -144,6 +189,7 @@ Sim2 ScaleIcp::coarseSearch(const Sim2& T0, const Points2d& observed,
   }
   centroid /= static_cast<double>(n);
   const double cap = config_.coarse_truncation_m;
+  const NearestPointGrid2d& grid = sketch_->nearest();
   Points2d visible0;
   if (reverse && reverse->tree && reverse->tree->size() > 0 && config_.reverse_range_m > 0.0) {
     const Points2d all = visibleSketch(T0, reverse->robot_world_m);
@@ -161,8 +207,13 @@ Sim2 ScaleIcp::coarseSearch(const Sim2& T0, const Points2d& observed,
         sum += cap;
         continue;
       }
-      const auto nn = sketch_->nearest(q);
-      sum += std::min(cap, m.worldDistance(sketch_->points()[nn.first], nn.second, p));
+      // Beyond the cap wherever the nearest wall is: the cap, as the search would give.
+      if (m.worldDistanceAtLeast(sketch_->clearanceAtLeast(q)) > cap) {
+        sum += cap;
+        continue;
+      }
+      const auto nn = grid.nearest(q);
+      sum += std::min(cap, m.worldDistance(grid.points()[nn.first], nn.second, p));
     }
     double cost = sum / static_cast<double>(sample.size());
     // One-sided distances favour a smaller scale (denser sketch walls are always near); the
@@ -203,9 +254,10 @@ Points2d ScaleIcp::visibleSketch(const Sim2& T, const Eigen::Vector2d& robot_wor
   const Eigen::Vector2d q = T.inverse().apply(robot_world_m);
   const double range_sketch = config_.reverse_range_m / T.scale;
   Points2d nearby;
-  for (const auto& [idx, d2] : sketch_->tree().radius(q, range_sketch)) {
+  const NearestPointGrid2d& grid = sketch_->nearest();
+  for (const auto& [idx, d2] : grid.tree().radius(q, range_sketch)) {
     (void)d2;
-    nearby.push_back(sketch_->points()[idx]);
+    nearby.push_back(grid.points()[idx]);
   }
   HprConfig hpr;
   hpr.max_range_m = range_sketch;
@@ -218,15 +270,16 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
                              const ObservedIndex* reverse) const {
   IcpResult r;
   r.T_world_sketch = T;
-  if (sketch_->size() == 0 || !T.isFinite() || !(T.scale > 0.0)) return r;
+  const NearestPointGrid2d& grid = sketch_->nearest();
+  if (grid.size() == 0 || !T.isFinite() || !(T.scale > 0.0)) return r;
   const Mapping m(T);
   std::vector<double> d;
   d.reserve(observed.size());
   for (const auto& p : observed) {
     const Eigen::Vector2d q = m.toSketch(p);
     if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
-    const auto nn = sketch_->nearest(q);
-    d.push_back(m.worldDistance(sketch_->points()[nn.first], nn.second, p));
+    const auto nn = grid.nearest(q);
+    d.push_back(m.worldDistance(grid.points()[nn.first], nn.second, p));
   }
   r.num_points = static_cast<int>(d.size());
   if (r.num_points < config_.min_points) return r;
@@ -284,16 +337,18 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
 
 HistoryFit ScaleIcp::historyFit(const Sim2& T, const Points2d& remembered) const {
   HistoryFit h;
-  if (sketch_->size() == 0 || !T.isFinite() || !(T.scale > 0.0)) return h;
+  const NearestPointGrid2d& grid = sketch_->nearest();
+  if (grid.size() == 0 || !T.isFinite() || !(T.scale > 0.0)) return h;
   const Mapping m(T);
   for (const auto& p : remembered) {
     ++h.points;
     const Eigen::Vector2d q = m.toSketch(p);
     if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
     ++h.inside;
-    const auto nn = sketch_->nearest(q);
+    if (m.worldDistanceAtLeast(sketch_->clearanceAtLeast(q)) > config_.inlier_distance_m) continue;
+    const auto nn = grid.nearest(q);
     h.explained +=
-        m.worldDistance(sketch_->points()[nn.first], nn.second, p) <= config_.inlier_distance_m;
+        m.worldDistance(grid.points()[nn.first], nn.second, p) <= config_.inlier_distance_m;
   }
   return h;
 }
@@ -302,7 +357,8 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
                            double start_correspondence_m, const ObservedIndex* reverse) const {
   Sim2 T = T_init;
   IcpResult out;
-  if (sketch_->size() == 0 || !T.isFinite() || !(T.scale > 0.0)) {
+  const NearestPointGrid2d& grid = sketch_->nearest();
+  if (grid.size() == 0 || !T.isFinite() || !(T.scale > 0.0)) {
     return evaluate(T, observed, reverse);
   }
   if (start_correspondence_m <= 0.0 &&
@@ -331,9 +387,11 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
     for (const auto& p : *iter_points) {
       const Eigen::Vector2d q = m.toSketch(p);
       if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
-      const auto nn = sketch_->nearest(q);
-      const double d = m.worldDistance(sketch_->points()[nn.first], nn.second, p);
-      if (d <= max_corr) pairs.push_back({d, sketch_->points()[nn.first], p});
+      // No wall within the capture radius: no pair, as the search would conclude.
+      if (m.worldDistanceAtLeast(sketch_->clearanceAtLeast(q)) > max_corr) continue;
+      const auto nn = grid.nearest(q);
+      const double d = m.worldDistance(grid.points()[nn.first], nn.second, p);
+      if (d <= max_corr) pairs.push_back({d, grid.points()[nn.first], p});
     }
     if (static_cast<int>(pairs.size()) < config_.min_points) break;
     if (config_.symmetric && reverse && reverse->tree && reverse->tree->size() > 0 &&

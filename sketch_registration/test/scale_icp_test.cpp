@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <random>
 
 #include "efs_common/angles.h"
@@ -338,6 +340,51 @@ TEST(ScaleIcp, AFitMostlyOutsideAPartialSketchIsJudgedOnWhatLiesInside) {
   // Held to a lower inside bound, the same fit is valid.
   config.min_inside_ratio = 0.1;
   EXPECT_TRUE(ScaleIcp(sketch, config).evaluate(Sim2(), observed).valid);
+}
+
+}  // namespace
+}  // namespace efs::registration
+
+namespace efs::registration {
+namespace {
+
+// The clearance grid skips nearest-point searches, so it must never exceed the true distance to
+// the nearest wall (anywhere, also between cells and outside the box), and it must be close
+// enough to skip something: within two coarse cells' diagonal of the truth far from the walls.
+TEST(SketchWalls, ClearanceIsALowerBoundOfTheDistanceToTheNearestWall) {
+  // A 60 x 60 m hall, a wall point every 0.2 m, and a pillar.
+  Points2d walls;
+  for (double a = 0.0; a < 60.0; a += 0.2) {
+    walls.emplace_back(a, 0.0);
+    walls.emplace_back(a, 60.0);
+    walls.emplace_back(0.0, a);
+    walls.emplace_back(60.0, a);
+  }
+  for (double a = 0.0; a < 2.0; a += 0.2) walls.emplace_back(20.0 + a, 20.0);
+  const ScaleIcp::SketchIndex index = ScaleIcp::indexSketch(walls, 5.0);
+  const double cell = 2.0 * index->nearest().cellSize();
+  ASSERT_LT(cell, 4.0);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> query(-15.0, 75.0);
+  int tight = 0, far = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Eigen::Vector2d q(query(rng), query(rng));
+    double truth = std::numeric_limits<double>::infinity();
+    for (const auto& w : walls) truth = std::min(truth, (w - q).norm());
+    const double bound = index->clearanceAtLeast(q);
+    ASSERT_GE(bound, 0.0);
+    ASSERT_LE(bound, truth) << "at (" << q.x() << ", " << q.y() << ")";
+    const bool inside = q.x() > -5.0 && q.x() < 65.0 && q.y() > -5.0 && q.y() < 65.0;
+    if (inside && truth > 3.0 * cell) {
+      ++far;
+      tight += bound >= truth - 2.0 * std::sqrt(2.0) * cell;
+    }
+  }
+  ASSERT_GT(far, 1000);
+  EXPECT_EQ(tight, far);
+  EXPECT_EQ(index->clearanceAtLeast({std::nan(""), 1.0}), 0.0);
+  // No walls: nothing to bound, nothing skipped.
+  EXPECT_EQ(ScaleIcp::indexSketch({}, 5.0)->clearanceAtLeast({1.0, 1.0}), 0.0);
 }
 
 }  // namespace

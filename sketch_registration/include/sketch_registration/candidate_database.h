@@ -99,6 +99,11 @@ class CandidateDatabase {
     double fft_factor = 0.0, cv_factor = 0.0;  ///< s_fft^alpha_fft, s_cv^alpha_cv
     /// combineSimilarity(s_cos, s_fft, s_cv, w), multiplied in its order (the same bits).
     double combined(double s_cos, const SimilarityWeights& w) const;
+    /// The same from S_cos's factor, similarityFactor(s_cos, alpha_cos): the bound's factor at
+    /// S_cos = 1 is taken once a frame (pow(1, alpha) costs a whole pow, ~180 000 a frame).
+    double combinedFromFactor(double cos_factor) const {
+      return cos_factor * fft_factor * cv_factor;
+    }
   };
   Invariants invariants(size_t i, int l, const GeoContext& observed,
                         const SimilarityWeights& w) const;
@@ -113,6 +118,23 @@ class CandidateDatabase {
                   int* shift_code = nullptr, bool later_level = false) const;
   /// Candidate i's descriptor cut at level l: range_m and coarse_range_m only.
   void cutAt(size_t i, int l, GeoContext& out) const;
+  /// A (candidate, level) pair, i * levels + l, and its bound on the score.
+  struct PairBound {
+    double value;
+    size_t pair;
+  };
+  /// rank()'s per-frame arrays (~10 MB on registration_bench's garage), kept from frame to frame
+  /// rather than allocated, faulted in and zeroed afresh; rank() writes each entry it reads in
+  /// the same frame. Hence rank() is not for concurrent calls on one database (a registration
+  /// owns its own).
+  struct RankBuffers {
+    std::vector<PairBound> bounds, sort_scratch;
+    std::vector<Invariants> inv;
+    std::vector<Candidate> best;
+    std::vector<double> best_score;
+    std::vector<int> first_shift;
+  };
+  mutable RankBuffers rank_buffers_;
   const float* ranges(size_t i) const { return ranges_.data() + i * stride_; }
   DescriptorConfig config_;
   Points2d locations_;

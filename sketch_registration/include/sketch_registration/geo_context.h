@@ -138,8 +138,12 @@ struct ShiftTables {
   int n = 0, n_coarse = 0;
   std::vector<float> plain, reversed;
   std::vector<float> coarse_plain, coarse_reversed;
-  /// Positions of unseen bins in each table (empty unless empty_is_unknown).
+  /// Positions of unseen bins in each table (empty unless empty_is_unknown), ascending.
   std::vector<int> unseen_plain, unseen_reversed, unseen_coarse_plain, unseen_coarse_reversed;
+  /// For each window start of the table alike named, the index of the first unseen position at or
+  /// after it: a window visits only its own unseen bins (retrieval scores ~10^6 windows a frame).
+  std::vector<int> first_unseen_plain, first_unseen_reversed, first_unseen_coarse_plain,
+      first_unseen_coarse_reversed;
 };
 /// Exhaustive over all N_b shifts (and mirrored shifts).
 ShiftMatch bestColumnShift(const float* prior_range_m, const ShiftTables& tables, bool try_reversed,
