@@ -361,9 +361,8 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   // those beside places no flight can enter (a garage's closed service core) drew the small
   // garage's flights across it (precise seed 3 68.2 -> 87.4 s).
   if (vps.empty() && config_.use_openings && config_.openings.vouched_min_cells > 0) {
-    if (const HypothesisAttachment* guide = activeAttachment())
-      vouched =
-          unseenGuidepoints(occupancy_, guide->guidepoints_world_m, robot.position_world_m.z());
+    vouched =
+        unseenGuidepoints(occupancy_, guiding_guidepoints_world_m_, robot.position_world_m.z());
     if (!vouched.empty()) {
       openings.reset();
       collect();
@@ -412,6 +411,12 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
                                             config_.bounds_world_m->max().head<2>());
   plan_hypotheses_ = hypotheses_;
   last_plan_ = planner_.plan(in);
+  // A plan without viewpoints has no guiding hypothesis; the one before it still says where the
+  // sketch vouches for unseen places, while hypotheses remain.
+  if (const HypothesisAttachment* guide = activeAttachment())
+    guiding_guidepoints_world_m_ = guide->guidepoints_world_m;
+  else if (hypotheses_.empty())
+    guiding_guidepoints_world_m_.clear();
   last_plan_time_s_ = time_s;
   hypotheses_changed_ = false;
   goal_refused_ = false;

@@ -668,6 +668,36 @@ TEST(ExplorationManager, HypothesesGuideAndBadOnesAreRefused) {
   EXPECT_FALSE(m.update(0.3, at(start)).replanned);
 }
 
+// Once no viewpoint is left the plan has no guiding hypothesis, but the openings the sketch
+// vouches for are still looked for near its guidepoints: those of the last guided plan, kept
+// while hypotheses remain.
+TEST(ExplorationManager, TheGuidingGuidepointsOutliveAPlanWithoutViewpoints) {
+  ExplorationManagerConfig c;
+  c.finish_confirmation_s = 2.0;
+  ExplorationManager m(c, corridorPrior(4, 5.0));
+  const Scene room = corridorRoom();
+  scanCorridor(m);
+  m.setHypotheses({Hypothesis{9, Sim2(0.0, 1.0, Eigen::Vector2d(1.0, 0.0)), 0.8}});
+  ASSERT_TRUE(m.update(0.0, at(corridorStart())).has_goal);
+  const HypothesisAttachment* guide = m.activeAttachment();
+  ASSERT_NE(guide, nullptr);
+  const std::vector<Eigen::Vector2d> guided = guide->guidepoints_world_m;
+  ASSERT_EQ(guided.size(), 4u);
+  EXPECT_EQ(m.guidingGuidepoints(), guided);
+  // Every corner seen: nothing left to plan for, no guiding hypothesis, the guidepoints kept.
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(8.0, 0.1, 1.6), Eigen::Vector3d(13.5, 0.1, 1.6),
+                                   Eigen::Vector3d(8.0, -2.0, 0.8), Eigen::Vector3d(8.0, 2.0, 2.4)})
+    scanFrom(m, room, p);
+  const ExplorationTarget& t = m.update(1.0, at(corridorStart()));
+  ASSERT_FALSE(t.has_goal) << t.message;
+  EXPECT_EQ(m.activeAttachment(), nullptr);
+  EXPECT_EQ(m.guidingGuidepoints(), guided);
+  // Without hypotheses there is nothing to vouch for.
+  m.setHypotheses({});
+  m.update(1.5, at(corridorStart()));
+  EXPECT_TRUE(m.guidingGuidepoints().empty());
+}
+
 TEST(ExplorationManager, GreedyPriorModeFollowsThePredictedCorridor) {
   ExplorationManagerConfig c;
   c.planner.mode = BaselineMode::kGreedyPrior;

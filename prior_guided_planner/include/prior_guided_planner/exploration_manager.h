@@ -258,6 +258,12 @@ class ExplorationManager {
   const HypothesisAttachment* activeAttachment() const;
   /// The selected prior sequence of the last plan as world positions (empty when none).
   std::vector<Eigen::Vector2d> activeGuidepointSequence() const;
+  /// The guidepoints in the world of the last plan that had a guiding hypothesis, kept through
+  /// plans without one (no viewpoint left) while hypotheses remain; where the openings the
+  /// sketch vouches for are looked for (OpeningConfig::vouched_min_cells).
+  const std::vector<Eigen::Vector2d>& guidingGuidepoints() const {
+    return guiding_guidepoints_world_m_;
+  }
   const std::optional<GuidepointPrior>& prior() const { return prior_; }
   const ExplorationInputStats& inputStats() const { return stats_; }
   const ExplorationManagerConfig& config() const { return config_; }
@@ -338,6 +344,7 @@ class ExplorationManager {
     size_t scans_inserted;
   };
   std::optional<NothingLeft> nothing_left_;
+  std::vector<Eigen::Vector2d> guiding_guidepoints_world_m_;  ///< guidingGuidepoints()
   /// Progress toward the current target (target_progress_m).
   struct Progress {
     int viewpoint_id;
