@@ -210,20 +210,16 @@ void MultiFrameVerifier::cluster() {
     tracks_.resize(static_cast<size_t>(config_.max_tracks));
   }
   const size_t n = std::min(tracks_.size(), static_cast<size_t>(config_.max_cluster_input));
-  // DBSCAN asks all n^2 / 2 pairs (up to ~10^6) whether they are within eps, and most lie far
-  // apart: the translation term alone, which transformDistance adds to other non-negative ones,
-  // answers for those (one coordinate's, a hair short of the norm, as a lower bound of it).
+  // DBSCAN only asks whether a pair lies within eps: a pair whose lower bound is beyond it (with
+  // a margin for rounding) answers without the full distance.
   const TransformDistanceWeights& w = config_.lambda;
   const double eps = config_.dbscan_eps;
-  const bool translation_bounds = w.lambda_t > 0.0 && w.lambda_r >= 0.0 && w.lambda_s >= 0.0;
   const std::vector<int> label =
       dbscan(n, eps, static_cast<size_t>(config_.dbscan_min_points), [&](size_t i, size_t j) {
         const Sim2& a = tracks_[i].T_world_sketch;
         const Sim2& b = tracks_[j].T_world_sketch;
-        if (translation_bounds &&
-            w.lambda_t * (a.t_m - b.t_m).cwiseAbs().maxCoeff() > eps * (1.0 + 1e-9)) {
+        if (transformDistanceLowerBound(a, b, w) > eps * (1.0 + 1e-9))
           return std::numeric_limits<double>::infinity();
-        }
         return transformDistance(a, b, w);
       });
   int num_clusters = 0;

@@ -178,6 +178,12 @@ double transformDistance(const Sim2& a, const Sim2& b, const TransformDistanceWe
          w.lambda_s * std::abs(a.scale - b.scale);
 }
 
+double transformDistanceLowerBound(const Sim2& a, const Sim2& b,
+                                   const TransformDistanceWeights& w) {
+  if (!(w.lambda_t > 0.0 && w.lambda_r >= 0.0 && w.lambda_s >= 0.0)) return 0.0;
+  return w.lambda_t * (a.t_m - b.t_m).cwiseAbs().maxCoeff();
+}
+
 std::vector<double> fourierDescriptor(const Points2d& polygon, int max_components) {
   const int n = static_cast<int>(polygon.size());
   std::vector<double> out;

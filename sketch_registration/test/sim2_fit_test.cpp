@@ -85,8 +85,7 @@ TEST(Sim2Fit, StretchedFitRecoversAKnownStretchWithinItsBound) {
     EXPECT_NEAR(capped.T_world_sketch.stretch, 1.04, 1e-9);
     EXPECT_LT(capped.rms_residual_m, fitSim2(c, p, mirror).rms_residual_m);
     // Without stretch allowed it is the similarity fit.
-    EXPECT_TRUE(
-        fitStretchedSim2(c, p, mirror, 0.1, 10.0, 1.0).T_world_sketch.isSimilarity());
+    EXPECT_TRUE(fitStretchedSim2(c, p, mirror, 0.1, 10.0, 1.0).T_world_sketch.isSimilarity());
   }
 }
 
@@ -113,6 +112,18 @@ TEST(Sim2Fit, TransformDistanceFollowsThePaperWeights) {
   EXPECT_NEAR(transformDistance(Sim2(3.1, 1, {0, 0}), Sim2(-3.1, 1, {0, 0}), w),
               10 * (2 * M_PI - 6.2), 1e-9);
   EXPECT_TRUE(std::isinf(transformDistance(a, Sim2(0.1, 1.0, {0, 0}, true), w)));
+  // The translation-only lower bound: the larger coordinate difference, 4 of the 5 m apart.
+  EXPECT_NEAR(transformDistanceLowerBound(a, b, w), 5 * 4.0, 1e-12);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-10.0, 10.0);
+  for (int i = 0; i < 1000; ++i) {
+    const Sim2 p(u(rng), 1.0 + 0.05 * u(rng), Vector2d(u(rng), u(rng)));
+    const Sim2 q(u(rng), 1.0 + 0.05 * u(rng), Vector2d(u(rng), u(rng)));
+    ASSERT_LE(transformDistanceLowerBound(p, q, w), transformDistance(p, q, w));
+  }
+  TransformDistanceWeights negative = w;
+  negative.lambda_s = -1.0;
+  EXPECT_EQ(transformDistanceLowerBound(a, b, negative), 0.0);
 }
 
 TEST(FourierDescriptor, InvariantToSimilarityAndDiscriminative) {

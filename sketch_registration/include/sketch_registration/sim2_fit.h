@@ -48,6 +48,10 @@ struct TransformDistanceWeights {
   double lambda_s = 1.0;
 };
 double transformDistance(const Sim2& a, const Sim2& b, const TransformDistanceWeights& w);
+/// A lower bound of transformDistance from the translations alone: lambda_t times the larger
+/// coordinate difference, a fraction of the cost. DBSCAN asks up to ~10^6 pairs a frame whether
+/// they lie within eps, and most lie far apart. 0 when a weight is negative (no bound holds).
+double transformDistanceLowerBound(const Sim2& a, const Sim2& b, const TransformDistanceWeights& w);
 
 /// Similarity-invariant Fourier descriptor of a closed polygon (vertices in order): magnitudes
 /// |Z_k| / |Z_1| for k = 2..K-1 of the DFT Z of the complex vertex sequence (Z_0 = translation is
