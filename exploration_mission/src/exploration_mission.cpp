@@ -251,7 +251,11 @@ void ExplorationMission::onScan() {
   const planner::ExplorationTarget* target = nullptr;
   {
     CpuTimer timer(log_.planner_cpu_s);
-    late_scans_.push_back({t, sensor_m, scan.points_world});
+    // Without latency the scan goes in as it is: no copy of its points on every scan.
+    if (config_.planner_scan_latency_s > 0.0)
+      late_scans_.push_back({t, sensor_m, scan.points_world});
+    else
+      exploration_->insertScan(sensor_m, scan.points_world);
     while (!late_scans_.empty() &&
            late_scans_.front().time_s + config_.planner_scan_latency_s <= t + 1e-9) {
       exploration_->insertScan(late_scans_.front().origin_world_m, late_scans_.front().points);

@@ -189,15 +189,14 @@ inline float sumOf(const float* x, int n) { return Eigen::Map<const Eigen::Array
 /// (`unseen`: the table's empty positions) the prior's bin is left out of that norm instead. The
 /// few empty positions are subtracted rather than the window masked: a mask pass per shift made
 /// retrieval 67-79 % slower, this 25-30 %.
-inline double windowScore(const float* prior, float sum_prior, const std::vector<float>& table,
-                          const std::vector<int>& unseen, const std::vector<int>& first_unseen,
-                          int start, int n, float sum_observed) {
+inline double windowScore(const float* prior, float sum_prior, const ShiftTable& table, int start,
+                          int n, float sum_observed) {
   const int end = start + n;
-  for (size_t k = static_cast<size_t>(first_unseen[static_cast<size_t>(start)]);
-       k < unseen.size() && unseen[k] < end; ++k) {
-    sum_prior -= prior[unseen[k] - start];
+  for (size_t k = static_cast<size_t>(table.first_unseen[static_cast<size_t>(start)]);
+       k < table.unseen.size() && table.unseen[k] < end; ++k) {
+    sum_prior -= prior[table.unseen[k] - start];
   }
-  return inverseCosineWithSums(prior, table.data() + start, n, sum_prior, sum_observed);
+  return inverseCosineWithSums(prior, table.values.data() + start, n, sum_prior, sum_observed);
 }
 
 std::vector<int> emptyPositions(const std::vector<float>& table, bool wanted) {
@@ -231,33 +230,21 @@ double inverseCosine(const float* prior, const float* observed, int n, bool unkn
   return inverseCosineWithSums(prior, observed, n, sum_prior, sumOf(observed, n));
 }
 
-ShiftTables::ShiftTables(const GeoContext& observed, bool empty_is_unknown) {
-  n = static_cast<int>(observed.range_m.size());
-  plain.resize(2 * static_cast<size_t>(n));
-  reversed.resize(2 * static_cast<size_t>(n));
-  for (int i = 0; i < 2 * n; ++i) {
-    plain[static_cast<size_t>(i)] = observed.range_m[static_cast<size_t>(i % n)];
-    // r_j = o_{-j}; the window starting at m reads o_{n' - i} with n' = -m (mod N).
-    reversed[static_cast<size_t>(i)] = observed.range_m[static_cast<size_t>((2 * n - i) % n)];
-  }
-  n_coarse = static_cast<int>(observed.coarse_range_m.size());
-  coarse_plain.resize(2 * static_cast<size_t>(n_coarse));
-  coarse_reversed.resize(2 * static_cast<size_t>(n_coarse));
-  for (int i = 0; i < 2 * n_coarse; ++i) {
-    coarse_plain[static_cast<size_t>(i)] =
-        observed.coarse_range_m[static_cast<size_t>(i % n_coarse)];
-    coarse_reversed[static_cast<size_t>(i)] =
-        observed.coarse_range_m[static_cast<size_t>((2 * n_coarse - i) % n_coarse)];
-  }
-  unseen_plain = emptyPositions(plain, empty_is_unknown);
-  unseen_reversed = emptyPositions(reversed, empty_is_unknown);
-  unseen_coarse_plain = emptyPositions(coarse_plain, empty_is_unknown);
-  unseen_coarse_reversed = emptyPositions(coarse_reversed, empty_is_unknown);
-  first_unseen_plain = firstAtOrAfter(unseen_plain, plain.size());
-  first_unseen_reversed = firstAtOrAfter(unseen_reversed, reversed.size());
-  first_unseen_coarse_plain = firstAtOrAfter(unseen_coarse_plain, coarse_plain.size());
-  first_unseen_coarse_reversed = firstAtOrAfter(unseen_coarse_reversed, coarse_reversed.size());
+ShiftTable::ShiftTable(const std::vector<float>& ring, bool mirrored, bool empty_is_unknown) {
+  const size_t n = ring.size();
+  values.resize(2 * n);
+  for (size_t i = 0; i < 2 * n; ++i) values[i] = ring[mirrored ? (2 * n - i) % n : i % n];
+  unseen = emptyPositions(values, empty_is_unknown);
+  first_unseen = firstAtOrAfter(unseen, values.size());
 }
+
+ShiftTables::ShiftTables(const GeoContext& observed, bool empty_is_unknown)
+    : n(static_cast<int>(observed.range_m.size())),
+      n_coarse(static_cast<int>(observed.coarse_range_m.size())),
+      plain(observed.range_m, false, empty_is_unknown),
+      reversed(observed.range_m, true, empty_is_unknown),
+      coarse_plain(observed.coarse_range_m, false, empty_is_unknown),
+      coarse_reversed(observed.coarse_range_m, true, empty_is_unknown) {}
 
 namespace {
 /// The mirror-image match only where it beats the proper one by `mirror_margin`: a place
@@ -273,7 +260,7 @@ ShiftMatch refineShifts(const GeoContext& prior, const ShiftTables& tables,
   const int n = tables.n;
   ShiftMatch best_plain, best_mirrored;
   if (n == 0 || static_cast<int>(prior.range_m.size()) != n) return best_plain;
-  const float sa = sumOf(prior.range_m.data(), n), sb = sumOf(tables.plain.data(), n);
+  const float sa = sumOf(prior.range_m.data(), n), sb = sumOf(tables.plain.values.data(), n);
   for (int centre : centres) {
     const bool rev = centre >= n;
     ShiftMatch& best = rev ? best_mirrored : best_plain;
@@ -281,11 +268,9 @@ ShiftMatch refineShifts(const GeoContext& prior, const ShiftTables& tables,
     int shift = wrapShift(wrapShift(centre, n) - half_width, n);
     for (int d = -half_width; d <= half_width; ++d, shift = shift + 1 == n ? 0 : shift + 1) {
       // Plain: window at `shift`; mirrored: shift n' is the window at -n'.
-      const double v =
-          rev ? windowScore(prior.range_m.data(), sa, tables.reversed, tables.unseen_reversed,
-                            tables.first_unseen_reversed, shift == 0 ? 0 : n - shift, n, sb)
-              : windowScore(prior.range_m.data(), sa, tables.plain, tables.unseen_plain,
-                            tables.first_unseen_plain, shift, n, sb);
+      const double v = rev ? windowScore(prior.range_m.data(), sa, tables.reversed,
+                                         shift == 0 ? 0 : n - shift, n, sb)
+                           : windowScore(prior.range_m.data(), sa, tables.plain, shift, n, sb);
       if (v > best.score) best = ShiftMatch{v, shift, rev, 0.0};
     }
   }
@@ -302,23 +287,19 @@ void bestCoarseCentres(const GeoContext& prior, const ShiftTables& tables, bool 
   centres.clear();
   const int n = tables.n, nc = tables.n_coarse;
   const float sca = sumOf(prior.coarse_range_m.data(), nc);
-  const float scb = sumOf(tables.coarse_plain.data(), nc);
+  const float scb = sumOf(tables.coarse_plain.values.data(), nc);
   thread_local std::vector<std::pair<float, int>> coarse;  // (score, orientation * nc + shift)
   coarse.clear();
   for (int c = 0; c < nc; ++c) {
-    coarse.emplace_back(
-        static_cast<float>(windowScore(prior.coarse_range_m.data(), sca, tables.coarse_plain,
-                                       tables.unseen_coarse_plain, tables.first_unseen_coarse_plain,
-                                       c, nc, scb)),
-        c);
+    coarse.emplace_back(static_cast<float>(windowScore(prior.coarse_range_m.data(), sca,
+                                                       tables.coarse_plain, c, nc, scb)),
+                        c);
   }
   if (try_reversed) {
     for (int m = 0; m < nc; ++m) {
-      coarse.emplace_back(
-          static_cast<float>(windowScore(prior.coarse_range_m.data(), sca, tables.coarse_reversed,
-                                         tables.unseen_coarse_reversed,
-                                         tables.first_unseen_coarse_reversed, m, nc, scb)),
-          nc + (nc - m) % nc);
+      coarse.emplace_back(static_cast<float>(windowScore(prior.coarse_range_m.data(), sca,
+                                                         tables.coarse_reversed, m, nc, scb)),
+                          nc + (nc - m) % nc);
     }
   }
   keep = std::min<int>(keep, static_cast<int>(coarse.size()));
@@ -370,16 +351,14 @@ ShiftMatch bestColumnShift(const float* prior, const ShiftTables& tables, bool t
   ShiftMatch plain, mirrored;
   const int n = tables.n;
   if (n == 0) return plain;
-  const float sa = sumOf(prior, n), sb = sumOf(tables.plain.data(), n);
+  const float sa = sumOf(prior, n), sb = sumOf(tables.plain.values.data(), n);
   for (int s = 0; s < n; ++s) {
-    const double v = windowScore(prior, sa, tables.plain, tables.unseen_plain,
-                                 tables.first_unseen_plain, s, n, sb);
+    const double v = windowScore(prior, sa, tables.plain, s, n, sb);
     if (v > plain.score) plain = ShiftMatch{v, s, false, 0.0};
   }
   if (try_reversed) {
     for (int m = 0; m < n; ++m) {
-      const double v = windowScore(prior, sa, tables.reversed, tables.unseen_reversed,
-                                   tables.first_unseen_reversed, m, n, sb);
+      const double v = windowScore(prior, sa, tables.reversed, m, n, sb);
       if (v > mirrored.score) mirrored = ShiftMatch{v, (n - m) % n, true, 0.0};
     }
   }

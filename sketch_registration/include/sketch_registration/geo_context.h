@@ -129,21 +129,27 @@ inline int shiftCode(const ShiftMatch& m, int num_bins) {
 ShiftMatch bestColumnShift(const GeoContext& prior, const GeoContext& observed, bool try_reversed,
                            double mirror_margin = 0.0);
 
-/// The observation descriptor laid out twice (plain and mirrored) so that every column shift is
-/// a contiguous window: prepared once per frame, used for every candidate.
-/// With `empty_is_unknown`, the observation's empty bins are unseen (DescriptorConfig::
-/// empty_observed_bins_unknown) and every shift leaves them out.
+/// A ring of bins laid out twice so that every column shift is a contiguous window: plain,
+/// values_i = ring_{i mod N}; mirrored, values_i = ring_{-i mod N} (the window starting at m reads
+/// ring_{n' - i} with n' = -m). With `empty_is_unknown` its empty bins are unseen and every
+/// window leaves them out.
+struct ShiftTable {
+  ShiftTable() = default;
+  ShiftTable(const std::vector<float>& ring, bool mirrored, bool empty_is_unknown);
+  std::vector<float> values;
+  /// Positions of unseen bins, ascending (empty unless empty_is_unknown).
+  std::vector<int> unseen;
+  /// For each window start, the index into `unseen` of the first position at or after it: a
+  /// window visits only its own unseen bins (retrieval scores ~10^6 windows a frame).
+  std::vector<int> first_unseen;
+};
+
+/// The observation descriptor, fine and coarse, plain and mirrored (ShiftTable): prepared once
+/// per frame, used for every candidate.
 struct ShiftTables {
   explicit ShiftTables(const GeoContext& observed, bool empty_is_unknown = false);
   int n = 0, n_coarse = 0;
-  std::vector<float> plain, reversed;
-  std::vector<float> coarse_plain, coarse_reversed;
-  /// Positions of unseen bins in each table (empty unless empty_is_unknown), ascending.
-  std::vector<int> unseen_plain, unseen_reversed, unseen_coarse_plain, unseen_coarse_reversed;
-  /// For each window start of the table alike named, the index of the first unseen position at or
-  /// after it: a window visits only its own unseen bins (retrieval scores ~10^6 windows a frame).
-  std::vector<int> first_unseen_plain, first_unseen_reversed, first_unseen_coarse_plain,
-      first_unseen_coarse_reversed;
+  ShiftTable plain, reversed, coarse_plain, coarse_reversed;
 };
 /// Exhaustive over all N_b shifts (and mirrored shifts).
 ShiftMatch bestColumnShift(const float* prior_range_m, const ShiftTables& tables, bool try_reversed,
