@@ -8,6 +8,7 @@
 //
 //   exploration_bench --quick | --full  [--out results/bench] [--jobs N] [--worlds a,b]
 //                     [--methods m1,m2] [--time-limit S] [--seeds N] [--progress-every S]
+//                     [--planner-rate HZ]
 //   --quick: small worlds (about 40 m), one seed.  --full: paper-sized worlds, 5 seeds.
 //   --progress-every S: a line per running trial every S seconds of simulated time (default 100
 //   with --full, where one flight can take an hour of wall time; 0, off, with --quick).
@@ -99,13 +100,14 @@ std::string statsCell(const Stats& s, int d = 1) {
 int main(int argc, char** argv) {
   using namespace efs;
   try {
-    const CliArgs args(
-        argc, argv, {"out", "jobs", "worlds", "methods", "time-limit", "seeds", "progress-every"},
-        {"quick", "full", "help"});
+    const CliArgs args(argc, argv,
+                       {"out", "jobs", "worlds", "methods", "time-limit", "seeds", "progress-every",
+                        "planner-rate"},
+                       {"quick", "full", "help"});
     if (args.flag("help") || (!args.flag("quick") && !args.flag("full"))) {
       std::cout << "usage: exploration_bench --quick | --full [--out DIR] [--jobs N] "
                    "[--worlds a,b] [--methods m1,m2] [--time-limit S] [--seeds N] "
-                   "[--progress-every S]\n";
+                   "[--progress-every S] [--planner-rate HZ]\n";
       return args.flag("help") ? 0 : 2;
     }
     const bool full = args.flag("full");
@@ -115,10 +117,14 @@ int main(int argc, char** argv) {
     const int seeds = static_cast<int>(args.integer("seeds", full ? 5 : 1));
     const double time_limit_s = args.number("time-limit", full ? 2000.0 : 600.0);
     const double progress_every_s = args.number("progress-every", full ? 100.0 : 0.0);
+    // The planner's target updates: 0 after every scan, else at this rate as the node's timer.
+    const double planner_rate_hz = args.number("planner-rate", 0.0);
     if (jobs < 1) throw CliError("--jobs must be at least 1");
     if (seeds < 1) throw CliError("--seeds must be at least 1");
     if (!(time_limit_s > 0.0) || !std::isfinite(time_limit_s))
       throw CliError("--time-limit must be a positive number of seconds");
+    if (!(planner_rate_hz >= 0.0) || !std::isfinite(planner_rate_hz))
+      throw CliError("--planner-rate must be 0 (after every scan) or a positive rate in Hz");
     if (!(progress_every_s >= 0.0) || !std::isfinite(progress_every_s))
       throw CliError("--progress-every must be 0 (off) or a positive number of seconds");
     const std::string data_dir = [] {
@@ -211,6 +217,7 @@ int main(int argc, char** argv) {
         try {
           mission::MissionConfig config;
           config.time_limit_s = time_limit_s;
+          config.planner_update_rate_hz = planner_rate_hz;
           config.record_map = false;  // no map is saved; keeps parallel trials small
           const auto m = mission::makeMission(r.trial.spec, config);
           const auto progress = [&](const mission::MissionProgress& p) {
@@ -278,7 +285,11 @@ int main(int argc, char** argv) {
     std::ostringstream md;
     md << "# Exploration benchmark (" << (full ? "full" : "quick") << ")\n\n"
        << "Protocol: v_max 4 m/s, time limit " << fmt(time_limit_s, 0)
-       << " s simulated, a trial fails below 95 % coverage or on collision; " << seeds
+       << " s simulated, a trial fails below 95 % coverage or on collision; the planner updates "
+       << (planner_rate_hz > 0.0
+               ? "at " + fmt(planner_rate_hz, 1) + " Hz"
+               : std::string("after every scan (10 Hz, as the node's plan_rate_hz)"))
+       << "; " << seeds
        << " seed(s). Columns: avg / std / max / min over finished trials. Gain = how much "
           "lower the proposed method's (precise sketch) average is than the baseline's. "
           "Exploration time ends when the planner has no viewpoint left (the paper's "

@@ -295,11 +295,10 @@ void ExplorationMission::onScan() {
     finish(MissionEnd::kExplorationComplete, target->message);
     return;
   }
-  if (target->has_goal &&
-      (!current_goal_ || (*current_goal_ - target->goal_world_m).norm() > 1e-6)) {
+  // As the node's timer does, every update hands the target on; the server takes only a new goal.
+  if (target->has_goal) {
     CpuTimer timer(log_.trajectory_cpu_s);
     trajectory_.setGoal(target->goal_world_m, target->look_at_world_m, t);
-    current_goal_ = target->goal_world_m;
   }
 }
 

@@ -13,8 +13,9 @@
 namespace efs::mission {
 namespace {
 
-// The small cave with the deformed sketch (rostest.mission_lio_dropout's flight). Timed like the
-// node (plan_rate_hz 2) with each scan 0.6 s late, it still explores the cave to the goal.
+// The small cave with the deformed sketch (rostest.mission_lio_dropout's flight). Timed like a
+// node held to 2 Hz (plan_rate_hz 2, a fifth of its default) with each scan 0.6 s late, it still
+// explores the cave to the goal.
 TEST(MissionTiming, ALatePlannerOnItsTimerStillExploresTheSmallCave) {
   MissionSpec spec;
   spec.world.kind = "simple_cave";

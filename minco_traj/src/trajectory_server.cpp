@@ -47,6 +47,8 @@ const char* toString(ServerEvent e) {
       return "goal_reached";
     case ServerEvent::kRejectedInput:
       return "rejected_input";
+    case ServerEvent::kSameGoal:
+      return "same_goal";
   }
   return "?";
 }
@@ -129,6 +131,10 @@ ServerEvent TrajectoryServer::setGoal(const Eigen::Vector3d& goal_world_m,
                " or time";
     return ServerEvent::kRejectedInput;
   }
+  constexpr double kSameGoal_m = 1e-6;
+  if (requested_goal_ && (goal_world_m - *requested_goal_).norm() <= kSameGoal_m)
+    return ServerEvent::kSameGoal;
+  requested_goal_ = goal_world_m;
   // A goal elsewhere is a new question: the waits for the failed one do not apply to it.
   if (failed_goal_ && (goal_world_m - *failed_goal_).norm() > cfg_.new_question_distance_m) {
     failed_plans_ = 0;
@@ -148,6 +154,7 @@ ServerEvent TrajectoryServer::setGoal(const Eigen::Vector3d& goal_world_m,
 void TrajectoryServer::clearGoal(double time_s) {
   goal_.reset();
   look_at_.reset();
+  requested_goal_.reset();
   new_goal_ = false;
   retry_at_s_.reset();
   collision_predicted_ = false;

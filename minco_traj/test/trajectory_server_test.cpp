@@ -135,6 +135,39 @@ TEST(TrajectoryServer, FliesToTheGoalAndReportsIt) {
   EXPECT_EQ(server.update(30.0, state), ServerEvent::kNone);  // holds, no more plans
 }
 
+// The planner hands its target on at every update; only a new goal is a new question.
+TEST(TrajectoryServer, AGoalRequestedAgainIsIgnoredUntilCleared) {
+  TrajectoryServer server(smallConfig());
+  const Eigen::Vector3d goal(4, 3, 1.5);
+  EXPECT_EQ(server.setGoal(goal, std::nullopt, 0.0), ServerEvent::kNone);
+  VehicleState state = at({0, 0, 1});
+  ASSERT_EQ(server.update(0.0, state), ServerEvent::kReplanned) << server.lastMessage();
+  const std::string message = server.lastMessage();
+  // Asked again on the way: nothing changes, no replan is due.
+  EXPECT_EQ(server.setGoal(goal, Eigen::Vector3d(9, 9, 1), 0.1), ServerEvent::kSameGoal);
+  EXPECT_EQ(server.lastMessage(), message);
+  state = fromReference(server.sample(0.1));
+  EXPECT_EQ(server.update(0.1, state), ServerEvent::kNone);
+  bool reached = false;
+  for (double t = 0.1; t < 20.0 && !reached; t += 0.01) {
+    reached = server.update(t, state) == ServerEvent::kGoalReached;
+    state = fromReference(server.sample(t));
+  }
+  ASSERT_TRUE(reached);
+  // Asked again once reached: the vehicle is not sent back to it.
+  EXPECT_EQ(server.setGoal(goal, std::nullopt, 21.0), ServerEvent::kSameGoal);
+  EXPECT_FALSE(server.goal().has_value());
+  // A rejected request leaves the last one in place; after clearGoal the goal is new again.
+  EXPECT_EQ(server.setGoal(Eigen::Vector3d::Constant(kNaN), std::nullopt, 21.0),
+            ServerEvent::kRejectedInput);
+  EXPECT_EQ(server.setGoal(goal, std::nullopt, 21.0), ServerEvent::kSameGoal);
+  server.clearGoal(21.0);
+  EXPECT_EQ(server.setGoal(goal, std::nullopt, 22.0), ServerEvent::kNone);
+  ASSERT_TRUE(server.goal().has_value());
+  EXPECT_LT((*server.goal() - goal).norm(), 1e-12);
+  EXPECT_STREQ(toString(ServerEvent::kSameGoal), "same_goal");
+}
+
 TEST(TrajectoryServer, GoalBeyondTheWindowIsReachedInStages) {
   TrajectoryServer server(smallConfig());  // 14 m window: the goal is 9 m beyond its edge
   const Eigen::Vector3d goal(16, 4, 1);

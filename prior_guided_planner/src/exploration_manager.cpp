@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "efs_common/config_check.h"
+#include "efs_common/segment_distance.h"
 #include "prior_guided_planner/goal_along_path.h"
 #include "prior_guided_planner/observation_map_inputs.h"
 
@@ -227,7 +228,8 @@ std::optional<ReplanReason> ExplorationManager::replanDue(double time_s,
   if (hypotheses_changed_) return ReplanReason::kNewHypotheses;
   if (goal_refused_) return ReplanReason::kGoalRefused;
   if (!target_.has_goal || !target_.goal_viewpoint_id) return ReplanReason::kNoGoal;
-  if ((robot.position_world_m - target_.viewpoint_world_m).norm() <= config_.target_reached_m)
+  if (target_passed_ ||
+      (robot.position_world_m - target_.viewpoint_world_m).norm() <= config_.target_reached_m)
     return ReplanReason::kTargetReached;
   // Half-way to a goal that is not the viewpoint itself (a stage on the way, or a point past it
   // along the tour): the next one is due before the local planner slows down for it.
@@ -250,11 +252,13 @@ std::optional<ReplanReason> ExplorationManager::replanDue(double time_s,
 }
 
 void ExplorationManager::replan(double time_s, const RobotPose& robot) {
-  // A target the robot reached is not planned for again.
+  // A target the robot reached (or passed since the last update) is not planned for again.
   if (target_.has_goal && target_.goal_viewpoint_id &&
-      (robot.position_world_m - target_.viewpoint_world_m).norm() <= config_.target_reached_m) {
+      (target_passed_ ||
+       (robot.position_world_m - target_.viewpoint_world_m).norm() <= config_.target_reached_m)) {
     markTargetReached();
   }
+  target_passed_ = false;
 
   for (auto it = set_aside_until_s_.begin(); it != set_aside_until_s_.end();)
     it = it->second <= time_s ? set_aside_until_s_.erase(it) : std::next(it);
@@ -685,6 +689,20 @@ const ExplorationTarget& ExplorationManager::update(double time_s, const RobotPo
        << " s)";
     target_.message = os.str();
     return target_;
+  }
+  // Updates sample the robot's path: at the node's plan_rate_hz (2 Hz) it moves 1.5-2 m between
+  // two, and it flies through the viewpoints of a tour (tour_lookahead_m), so a viewpoint passed
+  // within target_reached_m between updates counts as reached. Before, one not within it at an
+  // update stayed the target and the robot turned back for it (small garage, precise sketch,
+  // planner at 2 Hz: 118.6 s and 336 m to explore, 80.1 s and 226 m updating after every scan).
+  // The path between two updates is taken as straight; a longer step than the vehicle flies
+  // between any two updates is an odometry jump, and only where it ended counts.
+  constexpr double kLongestStep_m = 10.0;
+  if (last_time_s_ && target_.has_goal && target_.goal_viewpoint_id &&
+      (robot.position_world_m - last_robot_world_m_).norm() <= kLongestStep_m &&
+      distanceToSegment<3>(target_.viewpoint_world_m, last_robot_world_m_,
+                           robot.position_world_m) <= config_.target_reached_m) {
+    target_passed_ = true;
   }
   last_time_s_ = time_s;
   last_robot_world_m_ = robot.position_world_m;

@@ -111,6 +111,59 @@ TEST(ExplorationManager, NoReplanBeforeThePeriodUnlessTheTargetIsReached) {
   }
 }
 
+// The node updates on a 2 Hz timer, between which the vehicle flies 1.5-2 m, through the
+// viewpoints of a tour: a viewpoint its path passed within target_reached_m is reached, whether
+// or not an update found it there.
+TEST(ExplorationManager, AViewpointPassedBetweenUpdatesCountsAsReached) {
+  ExplorationManagerConfig c;
+  c.replan_period_s = 5.0;
+  // The goal is the viewpoint itself (no look-ahead, no stage, no half-way replan), as with the
+  // first test's strict grazing limit.
+  c.tour_lookahead_m = 0.0;
+  c.observation.facing_min_cosine = testing::kStrictFacingMinCosine;
+  const auto firstTarget = [&](ExplorationManager& m) {
+    scanCorridor(m);
+    EXPECT_TRUE(m.update(0.0, at(corridorStart())).replanned);
+    EXPECT_TRUE(m.target().goal_world_m.isApprox(m.target().viewpoint_world_m));
+    return m.target();
+  };
+  const Eigen::Vector3d across(1.5, 0.0, 0.0), aside(0.0, 1.5, 0.0);
+  {
+    // Flown past 1.5 m beside it: not reached, no replan inside the period.
+    ExplorationManager m(c, std::nullopt);
+    const ExplorationTarget first = firstTarget(m);
+    ASSERT_TRUE(first.has_goal && first.goal_viewpoint_id);
+    const Eigen::Vector3d v = first.viewpoint_world_m;
+    EXPECT_FALSE(m.update(1.0, at(v - across + aside)).replanned);
+    EXPECT_FALSE(m.update(1.5, at(v + across + aside)).replanned);
+    EXPECT_EQ(m.target().goal_viewpoint_id, first.goal_viewpoint_id);
+  }
+  {
+    // Flown through it between two updates, neither within 1 m of it: reached.
+    ExplorationManager m(c, std::nullopt);
+    const ExplorationTarget first = firstTarget(m);
+    ASSERT_TRUE(first.has_goal && first.goal_viewpoint_id);
+    const Eigen::Vector3d v = first.viewpoint_world_m;
+    ASSERT_GT(c.target_reached_m, 0.0);
+    ASSERT_LT(c.target_reached_m, across.norm());
+    EXPECT_FALSE(m.update(1.0, at(v - across)).replanned);
+    const ExplorationTarget& t = m.update(1.5, at(v + across));
+    EXPECT_TRUE(t.replanned);
+    EXPECT_EQ(t.replan_reason, ReplanReason::kTargetReached);
+    EXPECT_NE(t.goal_viewpoint_id, first.goal_viewpoint_id);
+  }
+  {
+    // A jump across it (an odometry reset, 12 m in one step) is no path: not reached.
+    ExplorationManager m(c, std::nullopt);
+    const ExplorationTarget first = firstTarget(m);
+    ASSERT_TRUE(first.has_goal && first.goal_viewpoint_id);
+    const Eigen::Vector3d v = first.viewpoint_world_m;
+    EXPECT_FALSE(m.update(1.0, at(v - 4.0 * across)).replanned);
+    EXPECT_FALSE(m.update(1.5, at(v + 4.0 * across)).replanned);
+    EXPECT_EQ(m.target().goal_viewpoint_id, first.goal_viewpoint_id);
+  }
+}
+
 // A scan that sees the target's frontier well (here: taken from the target viewpoint while the
 // vehicle is still at the start) removes the viewpoint; the next update replans at once, inside
 // the period, and says why.

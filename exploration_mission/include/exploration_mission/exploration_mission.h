@@ -170,7 +170,6 @@ class ExplorationMission {
   double tracking_error_sq_sum_ = 0.0;
   size_t tracking_samples_ = 0;
   double next_clearance_check_s_ = 0.0;
-  std::optional<Eigen::Vector3d> current_goal_;
   uint64_t reported_goal_failure_ = 0;  ///< sequence of the last GoalFailure passed on
   Eigen::Vector3d hold_position_m_ = Eigen::Vector3d::Zero();
   double hold_yaw_rad_ = 0.0;

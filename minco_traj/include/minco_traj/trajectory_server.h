@@ -74,7 +74,8 @@ enum class ServerEvent {
   kPlanFailedKeptCourse,  ///< the plan failed; the current, still clear trajectory is kept
   kEmergencyStop,
   kGoalReached,
-  kRejectedInput
+  kRejectedInput,
+  kSameGoal  ///< setGoal: the goal of the last request again, ignored
 };
 const char* toString(ServerEvent e);
 
@@ -106,7 +107,10 @@ class TrajectoryServer {
   void insertScan(const Eigen::Vector3d& sensor_origin_world_m,
                   const std::vector<Eigen::Vector3f>& points_world_m);
   /// New target (look_at optional: where the sensor should point; the goal otherwise).
-  /// Non-finite -> kRejectedInput with a message, the previous goal is kept.
+  /// Non-finite -> kRejectedInput with a message, the previous goal is kept. The goal of the
+  /// last accepted request again (within 1e-6 m, until clearGoal) -> kSameGoal, nothing changes:
+  /// the planner hands its target on at every update (10 Hz), and a repeat would replan and,
+  /// once the goal was reached, send the vehicle back to it.
   ServerEvent setGoal(const Eigen::Vector3d& goal_world_m,
                       std::optional<Eigen::Vector3d> look_at_world_m, double time_s);
   /// Drops the goal and brakes to a hold from the current reference.
@@ -161,6 +165,7 @@ class TrajectoryServer {
   ReferenceTrack track_;
   std::optional<PlanResult> last_plan_;
   std::optional<Eigen::Vector3d> goal_, look_at_;
+  std::optional<Eigen::Vector3d> requested_goal_;  ///< of the last request setGoal accepted
   bool new_goal_ = false;
   std::optional<double> retry_at_s_;  ///< a failed plan that kept the course is retried then
   bool collision_predicted_ = false;

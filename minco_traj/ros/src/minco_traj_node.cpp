@@ -185,7 +185,9 @@ void MincoTrajNode::onTarget(const geometry_msgs::PoseStamped::ConstPtr& msg) {
   } else if (!std::isfinite(qn)) {
     look_at = Eigen::Vector3d::Constant(qn);  // rejected below with the goal
   }
-  if (server_.setGoal(goal, look_at, ros::Time::now().toSec()) == ServerEvent::kRejectedInput) {
+  const ServerEvent e = server_.setGoal(goal, look_at, ros::Time::now().toSec());
+  if (e == ServerEvent::kSameGoal) return;  // the planner's timer repeating its target
+  if (e == ServerEvent::kRejectedInput) {
     ROS_WARN("minco_traj: target rejected: %s", server_.lastMessage().c_str());
     return;
   }

@@ -34,7 +34,10 @@ struct PriorGuidedPlannerNodeConfig {
   std::string sketch_frame = "sketch";
   std::string prior_bundle_path;  ///< empty: no sketch, prior-free
   double predicted_free_spacing_m = 1.0;
-  double plan_rate_hz = 2.0;
+  /// Updates a second. At the LiDAR's frame rate, as the in-process mission updates after every
+  /// scan: at 2 Hz the vehicle flew 1.5-2 m toward targets already gone (README, "How often the
+  /// planner updates").
+  double plan_rate_hz = 10.0;
   double odom_timeout_s = 1.0;
   PositionHistoryConfig scan_origin;  ///< where the sensor was at each scan's stamp
   PlannerMarkerOptions markers;
