@@ -690,11 +690,12 @@ const ExplorationTarget& ExplorationManager::update(double time_s, const RobotPo
     target_.message = os.str();
     return target_;
   }
-  // Updates sample the robot's path: at the node's plan_rate_hz (2 Hz) it moves 1.5-2 m between
-  // two, and it flies through the viewpoints of a tour (tour_lookahead_m), so a viewpoint passed
-  // within target_reached_m between updates counts as reached. Before, one not within it at an
-  // update stayed the target and the robot turned back for it (small garage, precise sketch,
-  // planner at 2 Hz: 118.6 s and 336 m to explore, 80.1 s and 226 m updating after every scan).
+  // Updates sample the robot's path: at 2 Hz (the node's plan_rate_hz until 1ad3910, or what a
+  // loaded computer falls to) it moves 1.5-2 m between two, and it flies through the viewpoints
+  // of a tour (tour_lookahead_m), so a viewpoint passed within target_reached_m between updates
+  // counts as reached. Before, one not within it at an update stayed the target and the robot
+  // turned back for it (small garage, precise sketch, planner at 2 Hz: 118.6 s and 336 m to
+  // explore, 80.1 s and 226 m updating after every scan).
   // The path between two updates is taken as straight; a longer step than the vehicle flies
   // between any two updates is an odometry jump, and only where it ended counts.
   constexpr double kLongestStep_m = 10.0;

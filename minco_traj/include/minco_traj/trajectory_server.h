@@ -108,7 +108,8 @@ class TrajectoryServer {
                   const std::vector<Eigen::Vector3f>& points_world_m);
   /// New target (look_at optional: where the sensor should point; the goal otherwise).
   /// Non-finite -> kRejectedInput with a message, the previous goal is kept. The goal of the
-  /// last accepted request again (within 1e-6 m, until clearGoal) -> kSameGoal, nothing changes:
+  /// last accepted request again (within 1e-6 m, until clearGoal) -> kSameGoal, nothing changes
+  /// (its look-at point neither, as the mission always had it):
   /// the planner hands its target on at every update (10 Hz), and a repeat would replan and,
   /// once the goal was reached, send the vehicle back to it.
   ServerEvent setGoal(const Eigen::Vector3d& goal_world_m,
