@@ -228,9 +228,7 @@ std::optional<ReplanReason> ExplorationManager::replanDue(double time_s,
   if (hypotheses_changed_) return ReplanReason::kNewHypotheses;
   if (goal_refused_) return ReplanReason::kGoalRefused;
   if (!target_.has_goal || !target_.goal_viewpoint_id) return ReplanReason::kNoGoal;
-  if (target_passed_ ||
-      (robot.position_world_m - target_.viewpoint_world_m).norm() <= config_.target_reached_m)
-    return ReplanReason::kTargetReached;
+  if (target_passed_) return ReplanReason::kTargetReached;
   // Half-way to a goal that is not the viewpoint itself (a stage on the way, or a point past it
   // along the tour): the next one is due before the local planner slows down for it.
   if (target_.goal_world_m != target_.viewpoint_world_m &&
@@ -253,11 +251,7 @@ std::optional<ReplanReason> ExplorationManager::replanDue(double time_s,
 
 void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   // A target the robot reached (or passed since the last update) is not planned for again.
-  if (target_.has_goal && target_.goal_viewpoint_id &&
-      (target_passed_ ||
-       (robot.position_world_m - target_.viewpoint_world_m).norm() <= config_.target_reached_m)) {
-    markTargetReached();
-  }
+  if (target_.has_goal && target_.goal_viewpoint_id && target_passed_) markTargetReached();
   target_passed_ = false;
 
   for (auto it = set_aside_until_s_.begin(); it != set_aside_until_s_.end();)
@@ -699,11 +693,13 @@ const ExplorationTarget& ExplorationManager::update(double time_s, const RobotPo
   // The path between two updates is taken as straight; a longer step than the vehicle flies
   // between any two updates is an odometry jump, and only where it ended counts.
   constexpr double kLongestStep_m = 10.0;
-  if (last_time_s_ && target_.has_goal && target_.goal_viewpoint_id &&
-      (robot.position_world_m - last_robot_world_m_).norm() <= kLongestStep_m &&
-      distanceToSegment<3>(target_.viewpoint_world_m, last_robot_world_m_,
-                           robot.position_world_m) <= config_.target_reached_m) {
-    target_passed_ = true;
+  if (target_.has_goal && target_.goal_viewpoint_id) {
+    const bool path_known =
+        last_time_s_ && (robot.position_world_m - last_robot_world_m_).norm() <= kLongestStep_m;
+    const Eigen::Vector3d& from = path_known ? last_robot_world_m_ : robot.position_world_m;
+    target_passed_ =
+        target_passed_ || distanceToSegment<3>(target_.viewpoint_world_m, from,
+                                               robot.position_world_m) <= config_.target_reached_m;
   }
   last_time_s_ = time_s;
   last_robot_world_m_ = robot.position_world_m;

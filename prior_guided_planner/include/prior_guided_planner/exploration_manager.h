@@ -358,8 +358,8 @@ class ExplorationManager {
   double goal_distance_at_plan_m_ = 0.0;  ///< robot to goal when the goal was set
   std::optional<double> last_time_s_;
   Eigen::Vector3d last_robot_world_m_ = Eigen::Vector3d::Zero();  ///< at the last update
-  /// The robot's path since the target was set came within target_reached_m of its viewpoint
-  /// (update() follows the path between updates; replan() consumes it).
+  /// The robot's path since the target was set came within target_reached_m of its viewpoint,
+  /// where it is now included (update() follows the path between updates; replan() consumes it).
   bool target_passed_ = false;
   std::optional<double> last_plan_time_s_;
   ExplorationTarget target_;
