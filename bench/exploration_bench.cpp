@@ -4,7 +4,8 @@
 // same core classes as the nodes), several trials in parallel, compared the way the paper does
 // (Sec. VII-C): per world, exploration time, flight distance and average speed (avg / std / max /
 // min) and the finished count per method; registration time to convergence; the relative gain of
-// the proposed method over each baseline. Writes CSV, Markdown and coverage plots.
+// the proposed method over each baseline. Writes CSV, Markdown, coverage plots and, per world,
+// the first seed's flights over the ground truth and the sketch (trajectories_N.png).
 //
 //   exploration_bench --quick | --full  [--out results/bench] [--jobs N] [--worlds a,b]
 //                     [--methods m1,m2] [--time-limit S] [--seeds N] [--progress-every S]
@@ -48,6 +49,7 @@ struct TrialResult {
   std::vector<efs::sim::CoverageLogEntry> coverage;
   std::string error;  ///< the trial could not run (bad input)
   double wall_s = 0.0;
+  cv::Mat trajectory;  ///< first seed only: the flown path over the world and the sketch
 };
 
 struct WorldEntry {
@@ -239,6 +241,7 @@ int main(int argc, char** argv) {
           }
           r.report = mission::makeReport(*m, r.trial.world_label, r.trial.spec.label());
           r.coverage = m->log().coverage_log;
+          if (r.trial.seed_index == 0) r.trajectory = mission::renderTrajectoryPanel(*m);
         } catch (const std::exception& e) {
           r.error = e.what();
         }
@@ -373,6 +376,22 @@ int main(int argc, char** argv) {
       for (const auto* r : rs) series.push_back({r->trial.spec.label(), r->coverage});
       cv::imwrite(out_dir + "/" + plot_name,
                   mission::renderCoveragePlot(series, "coverage over time: " + world));
+
+      std::vector<mission::LabelledPanel> panels;
+      for (const auto* r : rs) {
+        if (r->trajectory.empty()) continue;
+        panels.push_back({r->trial.spec.label() + ", seed 1: " +
+                              (r->report.success ? "finished" : "not finished") + " in " +
+                              fmt(r->report.exploration_time_s) + " s, " +
+                              fmt(r->report.flight_distance_m, 0) + " m",
+                          r->trajectory});
+      }
+      if (!panels.empty()) {
+        const std::string name = "trajectories_" + std::to_string(wi) + ".png";
+        cv::imwrite(out_dir + "/" + name, mission::stackLabelledPanels(panels, 400));
+        md << "![trajectories of seed 1, red at the start to blue at the end](" << name
+           << ")\n\n";
+      }
     }
     md << "Wall time " << fmt(wall.elapsedSeconds(), 0) << " s on " << jobs << " thread(s).\n";
     std::ofstream(out_dir + "/exploration.md") << md.str();

@@ -80,6 +80,12 @@ void label(cv::Mat& img, const std::string& text, int row) {
               cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
 }
 
+/// The top-down views' scale: about 900 px across the world, no finer than 5 cm.
+double trajectoryMetresPerPixel(const sim::VoxelWorld& world) {
+  const Eigen::AlignedBox3d grid = world.gridBox();
+  return std::max(0.05, std::max(grid.sizes().x(), grid.sizes().y()) / 900.0);
+}
+
 cv::Mat fitHeight(const cv::Mat& img, int height) {
   cv::Mat out;
   const double s = static_cast<double>(height) / img.rows;
@@ -301,14 +307,10 @@ std::string toMarkdown(const MissionReport& r) {
   return o.str();
 }
 
-std::vector<std::string> writeMissionPlots(const ExplorationMission& mission,
-                                           const std::string& dir) {
-  std::vector<std::string> written;
+cv::Mat renderTrajectoryPanel(const ExplorationMission& mission) {
   const MissionLog& log = mission.log();
   const sim::VoxelWorld& world = mission.session().world();
-  const Eigen::AlignedBox3d grid = world.gridBox();
-  const double extent_m = std::max(grid.sizes().x(), grid.sizes().y());
-  const double mpp = std::max(0.05, extent_m / 900.0);
+  const double mpp = trajectoryMetresPerPixel(world);
   cv::Mat truth = sim::renderTopDown(world, mpp);
   drawPath(truth, pathPixels(world, log, mpp));
   label(truth, "ground truth (top-down)", 0);
@@ -339,11 +341,46 @@ std::vector<std::string> writeMissionPlots(const ExplorationMission& mission,
     const int h = std::max(truth.rows, 400);
     cv::hconcat(fitHeight(truth, h), fitHeight(sketch, h), panel);
   }
-  written.push_back(dir + "/trajectory.png");
-  writeImage(written.back(), panel);
+  return panel;
+}
 
+cv::Mat stackLabelledPanels(const std::vector<LabelledPanel>& panels, int row_height_px) {
+  if (row_height_px < 1) {
+    throw std::invalid_argument("stackLabelledPanels: row height must be positive");
+  }
+  if (panels.empty()) return cv::Mat();
+  constexpr int kBanner = 28;  // px above each panel for its caption
+  std::vector<cv::Mat> scaled;
+  int width_px = 1;
+  for (const LabelledPanel& p : panels) {
+    if (p.image.empty() || p.image.type() != CV_8UC3) {
+      throw std::invalid_argument("stackLabelledPanels: panel '" + p.label +
+                                  "' is not a non-empty BGR image");
+    }
+    scaled.push_back(fitHeight(p.image, row_height_px));
+    width_px = std::max(width_px, scaled.back().cols);
+  }
+  cv::Mat out(static_cast<int>(panels.size()) * (kBanner + row_height_px), width_px, CV_8UC3,
+              cv::Scalar(255, 255, 255));
+  for (size_t k = 0; k < panels.size(); ++k) {
+    const int top = static_cast<int>(k) * (kBanner + row_height_px);
+    out.rowRange(top, top + kBanner).setTo(cv::Scalar(235, 235, 235));
+    cv::putText(out, panels[k].label, cv::Point(8, top + 19), cv::FONT_HERSHEY_SIMPLEX, 0.6,
+                cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    scaled[k].copyTo(out(cv::Rect(0, top + kBanner, scaled[k].cols, row_height_px)));
+  }
+  return out;
+}
+
+std::vector<std::string> writeMissionPlots(const ExplorationMission& mission,
+                                           const std::string& dir) {
+  std::vector<std::string> written;
+  const MissionLog& log = mission.log();
+  written.push_back(dir + "/trajectory.png");
+  writeImage(written.back(), renderTrajectoryPanel(mission));
+  const sim::VoxelWorld& world = mission.session().world();
   written.push_back(dir + "/coverage_gaps.png");
-  writeImage(written.back(), renderCoverageGaps(world, log, mpp));
+  writeImage(written.back(), renderCoverageGaps(world, log, trajectoryMetresPerPixel(world)));
 
   written.push_back(dir + "/coverage.png");
   writeImage(written.back(),

@@ -56,6 +56,27 @@ TEST(MissionReport, UnseenSurfaceIsReported) {
       << json;
 }
 
+// The benchmark's picture of a world's flights: each panel scaled to the row height under its
+// caption, in the given order, left-aligned on white.
+TEST(MissionReport, PanelsAreStackedUnderTheirCaptions) {
+  const cv::Mat red(100, 200, CV_8UC3, cv::Scalar(0, 0, 255));
+  const cv::Mat green(400, 200, CV_8UC3, cv::Scalar(0, 255, 0));
+  const cv::Mat out = stackLabelledPanels({{"a", red}, {"b", green}}, 200);
+  ASSERT_EQ(out.type(), CV_8UC3);
+  EXPECT_EQ(out.cols, 400);  // red at 400 x 200; green at 100 x 200
+  const int banner = out.rows / 2 - 200;
+  EXPECT_GT(banner, 10);
+  const cv::Vec3b kRed(0, 0, 255), kGreen(0, 255, 0), kWhite(255, 255, 255);
+  EXPECT_EQ(out.at<cv::Vec3b>(banner + 100, 300), kRed);
+  EXPECT_EQ(out.at<cv::Vec3b>(2 * banner + 300, 50), kGreen);
+  EXPECT_EQ(out.at<cv::Vec3b>(2 * banner + 300, 300), kWhite);
+  EXPECT_THROW(stackLabelledPanels({{"empty", cv::Mat()}}, 200), std::invalid_argument);
+  EXPECT_THROW(stackLabelledPanels({{"grey", cv::Mat(10, 10, CV_8UC1)}}, 200),
+               std::invalid_argument);
+  EXPECT_THROW(stackLabelledPanels({{"a", red}}, 0), std::invalid_argument);
+  EXPECT_TRUE(stackLabelledPanels({}, 200).empty());
+}
+
 TEST(MissionPrior, TruthIsReExpressedInTheBundleFrame) {
   // The drawing says 0.1 m/px; the user guesses 0.2 m/px. A pixel centre must land on the same
   // world point through either frame.

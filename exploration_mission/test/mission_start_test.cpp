@@ -7,6 +7,7 @@
 #include <string>
 
 #include "efs_common/testing/paths.h"
+#include "exploration_mission/mission_report.h"
 #include "exploration_mission/mission_spec.h"
 
 namespace efs::mission {
@@ -52,6 +53,11 @@ TEST(MissionStart, TheEd21FlightWithSketch1LeavesTheWestRoom) {
   const MissionLog& log = mission->run();
   EXPECT_STREQ(toString(log.end), toString(MissionEnd::kTimeLimit)) << log.end_message;
   EXPECT_EQ(mission->explorationManager().inputStats().viewpoints_given_up, 0u);
+  // The benchmark's trajectory picture of this flight: the world and the sketch side by side.
+  const cv::Mat panel = renderTrajectoryPanel(*mission);
+  ASSERT_EQ(panel.type(), CV_8UC3);
+  EXPECT_GE(panel.rows, 400);
+  EXPECT_GT(panel.cols, panel.rows);
 }
 
 }  // namespace

@@ -76,6 +76,22 @@ struct CoverageSeries {
 /// 95 % line, axes and a legend. CV_8UC3.
 cv::Mat renderCoveragePlot(const std::vector<CoverageSeries>& series, const std::string& title);
 
+/// trajectory.png's picture: the ground truth from above with the flown path (red at the start
+/// to blue at the end) and, with a sketch, the sketch with the path mapped into it by the final
+/// best hypothesis, side by side. CV_8UC3.
+cv::Mat renderTrajectoryPanel(const ExplorationMission& mission);
+
+/// A picture under a one-line caption.
+struct LabelledPanel {
+  std::string label;
+  cv::Mat image;  ///< CV_8UC3
+};
+/// The panels one under the other, each scaled to `row_height_px` under a caption band and
+/// left-aligned on white (the widest sets the width): the benchmark's view of one world's
+/// flights, every one at the same scale. Throws std::invalid_argument on an empty or non-BGR
+/// panel or a height below 1; no panels give an empty cv::Mat.
+cv::Mat stackLabelledPanels(const std::vector<LabelledPanel>& panels, int row_height_px);
+
 /// Writes `<dir>/trajectory.png` (ground-truth top-down view and, with a sketch, the sketch with
 /// the trajectory mapped by the final best hypothesis), `<dir>/coverage.png` and
 /// `<dir>/coverage_gaps.png` (the unseen ground-truth surface from above, coloured by the way it
