@@ -380,17 +380,16 @@ int main(int argc, char** argv) {
       std::vector<mission::LabelledPanel> panels;
       for (const auto* r : rs) {
         if (r->trajectory.empty()) continue;
-        panels.push_back({r->trial.spec.label() + ", seed 1: " +
-                              (r->report.success ? "finished" : "not finished") + " in " +
-                              fmt(r->report.exploration_time_s) + " s, " +
+        panels.push_back({r->trial.spec.label() +
+                              ", seed 1: " + (r->report.success ? "finished" : "not finished") +
+                              " in " + fmt(r->report.exploration_time_s) + " s, " +
                               fmt(r->report.flight_distance_m, 0) + " m",
                           r->trajectory});
       }
       if (!panels.empty()) {
         const std::string name = "trajectories_" + std::to_string(wi) + ".png";
         cv::imwrite(out_dir + "/" + name, mission::stackLabelledPanels(panels, 400));
-        md << "![trajectories of seed 1, red at the start to blue at the end](" << name
-           << ")\n\n";
+        md << "![trajectories of seed 1, red at the start to blue at the end](" << name << ")\n\n";
       }
     }
     md << "Wall time " << fmt(wall.elapsedSeconds(), 0) << " s on " << jobs << " thread(s).\n";
