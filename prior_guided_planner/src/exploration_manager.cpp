@@ -359,8 +359,9 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   // those beside places no flight can enter (a garage's closed service core) drew the small
   // garage's flights across it (precise seed 3 68.2 -> 87.4 s).
   if (vps.empty() && config_.use_openings && config_.openings.vouched_min_cells > 0) {
-    vouched =
-        unseenGuidepoints(occupancy_, guiding_guidepoints_world_m_, robot.position_world_m.z());
+    vouched = unseenGuidepoints(
+        occupancy_, guiding_guidepoints_world_m_, robot.position_world_m.z(),
+        config_.openings.vouched_unseen_radius_m, config_.openings.vouched_unseen_fraction);
     if (!vouched.empty()) {
       openings.reset();
       collect();

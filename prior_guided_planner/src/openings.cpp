@@ -24,6 +24,8 @@ void OpeningConfig::validate() const {
   requireInRange("openings.max_walk_cells", max_walk_cells, 0, 10000000);
   requireInRange("openings.vouched_min_cells", vouched_min_cells, 0, min_cells);
   requireInRange("openings.vouched_radius_m", vouched_radius_m, 0.0, 1000.0);
+  requireInRange("openings.vouched_unseen_radius_m", vouched_unseen_radius_m, 0.0, 100.0);
+  requireInRange("openings.vouched_unseen_fraction", vouched_unseen_fraction, 0.0, 1.0);
   requireInRange("openings.search_radius_m", search_radius_m, 1.0, 100000.0);
 }
 
@@ -260,11 +262,29 @@ bool ReachedOpenings::movedOn(const Opening& opening) const {
 
 std::vector<Eigen::Vector2d> unseenGuidepoints(
     const OccupancyMap& occ, const std::vector<Eigen::Vector2d>& guidepoints_world_m,
-    double height_m) {
+    double height_m, double unseen_radius_m, double min_unseen_fraction) {
   std::vector<Eigen::Vector2d> out;
-  for (const Eigen::Vector2d& w : guidepoints_world_m)
-    if (w.allFinite() && occ.isUnknown(occ.key(Eigen::Vector3d(w.x(), w.y(), height_m))))
-      out.push_back(w);
+  const double res = occ.resolution();
+  const int reach = static_cast<int>(std::floor(std::max(0.0, unseen_radius_m) / res));
+  for (const Eigen::Vector2d& w : guidepoints_world_m) {
+    if (!w.allFinite() || !std::isfinite(height_m)) continue;
+    const VoxelKey centre = occ.key(Eigen::Vector3d(w.x(), w.y(), height_m));
+    if (!occ.isUnknown(centre)) continue;
+    // Cells on the guidepoint's cell lattice, so that the fraction does not depend on where in
+    // its cell the guidepoint lies.
+    int cells = 0, unseen = 0;
+    for (int dx = -reach; dx <= reach; ++dx) {
+      for (int dy = -reach; dy <= reach; ++dy) {
+        if ((dx * dx + dy * dy) * res * res > unseen_radius_m * unseen_radius_m) continue;
+        VoxelKey k = centre;
+        k.x += dx;
+        k.y += dy;
+        ++cells;
+        unseen += occ.isUnknown(k) ? 1 : 0;
+      }
+    }
+    if (unseen >= min_unseen_fraction * cells) out.push_back(w);
+  }
   return out;
 }
 

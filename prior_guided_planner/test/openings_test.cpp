@@ -373,6 +373,25 @@ TEST(Openings, UnseenGuidepointsAreThoseNoScanReached) {
   EXPECT_LT((unseen.front() - Eigen::Vector2d(11.0, 0.0)).norm(), 1e-9);
 }
 
+// A guidepoint 0.5 m behind the closed wall stands in an unseen cell, but the wall and the
+// scanned room lie within 2 m of it: it vouches only when its own cell decides.
+TEST(Openings, AnUnseenGuidepointBesideKnownWallsNeedsRoomAroundItToVouch) {
+  const OccupancyMap occ = scanned(false);
+  const std::vector<Eigen::Vector2d> guidepoints = {{5.8, 0.0}, {11.0, 0.0}};
+  ASSERT_EQ(unseenGuidepoints(occ, guidepoints, 1.5).size(), 2u);
+  const OpeningConfig defaults;
+  const std::vector<Eigen::Vector2d> roomy = unseenGuidepoints(
+      occ, guidepoints, 1.5, defaults.vouched_unseen_radius_m, defaults.vouched_unseen_fraction);
+  ASSERT_EQ(roomy.size(), 1u);
+  EXPECT_LT((roomy.front() - Eigen::Vector2d(11.0, 0.0)).norm(), 1e-9);
+  // Nothing asked of the surroundings: the radius alone, or a fraction of 0.
+  EXPECT_EQ(unseenGuidepoints(occ, guidepoints, 1.5, 2.0, 0.0).size(), 2u);
+  EXPECT_EQ(unseenGuidepoints(occ, guidepoints, 1.5, 0.0, 1.0).size(), 2u);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(unseenGuidepoints(occ, {{nan, 0.0}}, 1.5, 2.0, 0.9).empty());
+  EXPECT_TRUE(unseenGuidepoints(occ, guidepoints, nan, 2.0, 0.9).empty());
+}
+
 TEST(Openings, BadInput) {
   OccupancyMap empty;
   EXPECT_TRUE(findOpenings(empty, {0, 0, 0}, std::nullopt).empty());
@@ -380,6 +399,12 @@ TEST(Openings, BadInput) {
   EXPECT_TRUE(findOpenings(scanned(true), {nan, 0, 0}, std::nullopt).empty());
   OpeningConfig bad;
   bad.min_cells = 0;
+  EXPECT_THROW(findOpenings(empty, {0, 0, 0}, std::nullopt, bad), ConfigError);
+  bad = {};
+  bad.vouched_unseen_fraction = 1.5;
+  EXPECT_THROW(findOpenings(empty, {0, 0, 0}, std::nullopt, bad), ConfigError);
+  bad = {};
+  bad.vouched_unseen_radius_m = -1.0;
   EXPECT_THROW(findOpenings(empty, {0, 0, 0}, std::nullopt, bad), ConfigError);
   bad = {};
   bad.max_backoff_m = -1.0;

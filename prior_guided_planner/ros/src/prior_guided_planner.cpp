@@ -68,6 +68,8 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("opening_max_walk_cells", e.openings.max_walk_cells);
   p.get("opening_vouched_min_cells", e.openings.vouched_min_cells);
   p.get("opening_vouched_radius_m", e.openings.vouched_radius_m);
+  p.get("opening_vouched_unseen_radius_m", e.openings.vouched_unseen_radius_m);
+  p.get("opening_vouched_unseen_fraction", e.openings.vouched_unseen_fraction);
   p.get("near_openings_radius_m", e.near_openings_radius_m);
   p.get("near_openings_min_cells", e.near_openings_min_cells);
   p.get("openings_stay_in_tour", e.openings_stay_in_tour);
