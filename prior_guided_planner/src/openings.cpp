@@ -264,26 +264,28 @@ std::vector<Eigen::Vector2d> unseenGuidepoints(
     const OccupancyMap& occ, const std::vector<Eigen::Vector2d>& guidepoints_world_m,
     double height_m, double unseen_radius_m, double min_unseen_fraction) {
   std::vector<Eigen::Vector2d> out;
+  if (!std::isfinite(height_m)) return out;
   const double res = occ.resolution();
   const int reach = static_cast<int>(std::floor(std::max(0.0, unseen_radius_m) / res));
+  OccupancyMap::Cursor cursor(occ);  // the disc's cells share a few blocks
+  const auto unseen = [&](const VoxelKey& k) {
+    return cursor.state(k) == OccupancyState::kUnknown;
+  };
   for (const Eigen::Vector2d& w : guidepoints_world_m) {
-    if (!w.allFinite() || !std::isfinite(height_m)) continue;
+    if (!w.allFinite()) continue;
     const VoxelKey centre = occ.key(Eigen::Vector3d(w.x(), w.y(), height_m));
-    if (!occ.isUnknown(centre)) continue;
+    if (!unseen(centre)) continue;
     // Cells on the guidepoint's cell lattice, so that the fraction does not depend on where in
     // its cell the guidepoint lies.
-    int cells = 0, unseen = 0;
+    int cells = 0, unseen_cells = 0;
     for (int dx = -reach; dx <= reach; ++dx) {
       for (int dy = -reach; dy <= reach; ++dy) {
         if ((dx * dx + dy * dy) * res * res > unseen_radius_m * unseen_radius_m) continue;
-        VoxelKey k = centre;
-        k.x += dx;
-        k.y += dy;
         ++cells;
-        unseen += occ.isUnknown(k) ? 1 : 0;
+        unseen_cells += unseen({centre.x + dx, centre.y + dy, centre.z}) ? 1 : 0;
       }
     }
-    if (unseen >= min_unseen_fraction * cells) out.push_back(w);
+    if (unseen_cells >= min_unseen_fraction * cells) out.push_back(w);
   }
   return out;
 }
