@@ -54,6 +54,7 @@ LocalGrid::LocalGrid(const LocalGridConfig& cfg, const Eigen::Vector3d& c) : cfg
   nz_ = static_cast<int>(std::ceil(cfg_.size_z_m / cfg_.resolution_m - 1e-6));
   const size_t n = static_cast<size_t>(nx_) * ny_ * nz_;
   cells_.assign(n, Cell{});
+  settled_free_.assign((n + 63) / 64, 0);
   // At or above the inflation radius the inflation itself answers (isBlocked).
   has_narrow_ = cfg_.narrow_radius_m > 0.0 && cfg_.narrow_radius_m < cfg_.inflation_radius_m;
   const VoxelKey ck = key(c);
@@ -159,6 +160,7 @@ void LocalGrid::recenter(const Eigen::Vector3d& c) {
     Cell& cell = cells_[idx];
     if (keep && cell.occupied) remember({kx[ix], ky[iy], kz[iz]}, cell.logodds);
     cell = Cell{};
+    setSettledFree(idx, false);
   });
   setWindow(new_min);
   // Occupied cells that stay, within the ball's reach of the entering slots, stamp those slots;
@@ -274,6 +276,7 @@ void LocalGrid::restoreRemembered() {
           cells_[i].logodds = rememberedLogodds(c);
           cells_[i].observed = 1;
           cells_[i].occupied = 1;
+          setSettledFree(i, false);
           if (!was_occupied) stampInflation(key, +1);
         }
         remembered_ -= cells.size() - kept;
@@ -283,7 +286,8 @@ void LocalGrid::restoreRemembered() {
 }
 
 size_t LocalGrid::memoryBytes() const {
-  size_t bytes = cells_.capacity() * sizeof(Cell) + hashContainerBytes(memory_);
+  size_t bytes = cells_.capacity() * sizeof(Cell) + settled_free_.capacity() * sizeof(uint64_t) +
+                 hashContainerBytes(memory_);
   for (const auto& [block, cells] : memory_) bytes += cells.capacity() * sizeof(RememberedCell);
   return bytes;
 }
@@ -350,6 +354,7 @@ void LocalGrid::updateCell(size_t idx, const VoxelKey& k, float delta) {
                          static_cast<float>(cfg_.logodds_max));
   const bool is_occ = c.logodds > cfg_.logodds_occupied;
   c.occupied = is_occ;
+  setSettledFree(idx, isSettledFree(c));
   if (is_occ != was_occ) stampInflation(k, is_occ ? +1 : -1);
 }
 
@@ -409,6 +414,9 @@ void LocalGrid::insertScan(const Eigen::Vector3d& origin,
       if (k == end_key) return false;
       if (!inWindow(k)) return true;  // the origin may be outside; keep walking inwards
       const size_t idx = index(k);
+      // Unchanged by a miss: its stamp need not be read or set either, for a later ray of this
+      // scan finds the bit as well (hits came first and clear it).
+      if (settledFree(idx)) return true;
       if (cells_[idx].scan_stamp == scan_id_) return true;
       cells_[idx].scan_stamp = scan_id_;
       updateCell(idx, k,
@@ -440,6 +448,7 @@ void LocalGrid::setAllFree() {
     c.occupied = 0;
     c.inflation = c.narrow_inflation = 0;
   }
+  std::fill(settled_free_.begin(), settled_free_.end(), ~uint64_t{0});
 }
 
 CellState LocalGrid::state(const VoxelKey& k) const {

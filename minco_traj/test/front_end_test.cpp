@@ -127,6 +127,33 @@ TEST(LocalGrid, OneRayPerCoarseEndVoxelButEveryHitCounts) {
   EXPECT_GT(only_fine, 0);
 }
 
+// Rays skip cells settled free (at logodds_min, where a miss changes nothing) without reading
+// them; a hit, or a new key taking the slot, must end that.
+TEST(LocalGrid, CellsSettledFreeStillChangeWhenHitOrReplaced) {
+  LocalGridConfig cfg = smallGrid(0.1);
+  cfg.ray_downsample_m = 0.0;
+  cfg.memory_radius_m = 0.0;
+  LocalGrid g(cfg, Eigen::Vector3d(0, 0, 0));
+  const Eigen::Vector3d origin(-1.25, 0.05, 0.05), wall(1.25, 0.05, 0.05), mid(0.05, 0.05, 0.05);
+  for (int i = 0; i < 10; ++i) g.insertScan(origin, {wall});  // settles the cells between
+  ASSERT_EQ(g.state(mid), CellState::kFree);
+  g.insertScan(origin, {mid});
+  ASSERT_EQ(g.state(mid), CellState::kOccupied);
+  EXPECT_TRUE(g.isInflated(g.key(Eigen::Vector3d(0.15, 0.05, 0.05))));
+  // Weak misses (logodds_miss_occupied) from rays through it wear it down again.
+  for (int i = 0; i < 30; ++i) g.insertScan(origin, {wall});
+  EXPECT_EQ(g.state(mid), CellState::kFree);
+  EXPECT_FALSE(g.isInflated(g.key(Eigen::Vector3d(0.15, 0.05, 0.05))));
+  // A move by a whole window reuses every slot for keys never seen: unknown, then free once a
+  // ray crosses them.
+  g.recenter(Eigen::Vector3d(3.0, 0, 0));
+  const Eigen::Vector3d new_mid(3.05, 0.05, 0.05);
+  ASSERT_EQ(g.state(new_mid), CellState::kUnknown);
+  g.insertScan(Eigen::Vector3d(1.75, 0.05, 0.05), {Eigen::Vector3d(4.25, 0.05, 0.05)});
+  EXPECT_EQ(g.state(new_mid), CellState::kFree);
+  EXPECT_EQ(g.state(Eigen::Vector3d(4.25, 0.05, 0.05)), CellState::kOccupied);
+}
+
 TEST(LocalGrid, RecenterForgetsOnlyCellsThatLeaveTheWindow) {
   LocalGridConfig cfg = smallGrid(0.1);
   cfg.memory_radius_m = 0.0;  // no surface memory: what leaves is gone
