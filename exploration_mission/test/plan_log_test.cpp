@@ -29,13 +29,18 @@ std::vector<Eigen::Vector3f> boxScan(const Eigen::Vector3d& o, const Eigen::Vect
   return pts;
 }
 
-size_t columns(const std::string& line) { return std::count(line.begin(), line.end(), ',') + 1; }
-
-/// The fields of a CSV line (no quoting in the plan log).
+/// The fields of a CSV line; a quoted field (the message) may hold commas and doubled quotes.
 std::vector<std::string> fields(const std::string& line) {
   std::vector<std::string> out(1);
-  for (char ch : line) {
-    if (ch == ',') {
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char ch = line[i];
+    if (quoted && ch == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+      out.back() += '"';
+      ++i;
+    } else if (ch == '"') {
+      quoted = !quoted;
+    } else if (ch == ',' && !quoted) {
       out.emplace_back();
     } else {
       out.back() += ch;
@@ -43,6 +48,8 @@ std::vector<std::string> fields(const std::string& line) {
   }
   return out;
 }
+
+size_t columns(const std::string& line) { return fields(line).size(); }
 
 /// The value of column `name` of `row` under `header`; fails the test when there is none.
 std::string column(const std::string& header, const std::string& row, const std::string& name) {
@@ -85,6 +92,9 @@ TEST(PlanLog, OneLinePerPlanWithTheHeadersColumns) {
   EXPECT_EQ(column(header, row, "previous_target_rank"), "");  // there was no previous target
   EXPECT_EQ(column(header, row, "first_guidepoint"), "");      // no guidance
   EXPECT_EQ(column(header, row, "first_switch_gap_m"), "");
+  // What the plan said, whole, though it holds commas.
+  EXPECT_EQ(column(header, row, "message"), t.message);
+  EXPECT_NE(t.message.find(','), std::string::npos) << t.message;
 }
 
 TEST(PlanLog, SaysWhyEachPlanRanAndWhereThePreviousTargetWent) {

@@ -120,7 +120,9 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) {
       if (kept) {
         hs.mcts = std::move(*kept);
       } else {
-        hs.mcts = mcts_.solve(hs.problem.problem, config_.mcts.seed + 7919 * k);
+        const std::vector<int> warm = warmSequence(h.id, hs.problem);
+        hs.mcts = mcts_.solve(hs.problem.problem, config_.mcts.seed + 7919 * k,
+                              warm.empty() ? nullptr : &warm);
         if (config_.reuse_sequences) memo_.remember(hs.problem, hs.mcts);
       }
       if (const auto kept = last_first_guidepoint_.find(h.id); kept != last_first_guidepoint_.end())
@@ -131,6 +133,7 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) {
       res.groups = groupViewpoints(res.attachments, nv);
       res.selection = selectPriorSequence(res.groups, res.sequences, robot_len);
       rememberFirstGuidepoints(in, res);
+      rememberSequences(in, res);
       if (res.selection.group >= 0 && res.selection.hypothesis >= 0) {
         const int hk = res.selection.hypothesis;
         // A selected hypothesis always has a sequence: it starts at the target group.
@@ -186,6 +189,36 @@ void HierarchicalPlanner::rememberFirstGuidepoints(const PlanningInput& in,
       last_first_guidepoint_[id] = hs.problem.node_guidepoint[hs.mcts.sequence.front()];
     }
   }
+}
+
+void HierarchicalPlanner::rememberSequences(const PlanningInput& in, const PlanningResult& res) {
+  if (!config_.warm_start_sequences) return;
+  for (size_t k = 0; k < res.sequences.size(); ++k) {
+    const HypothesisSequence& hs = res.sequences[k];
+    const int id = in.hypotheses[res.used_hypotheses[k]].id;
+    // The guiding hypothesis keeps the sequence the vehicle was sent along, which with several
+    // hypotheses (CalcRisk) need not be its own shortest.
+    if (static_cast<int>(k) == res.selection.hypothesis &&
+        !res.selection.guidepoint_sequence.empty()) {
+      last_sequence_[id] = res.selection.guidepoint_sequence;
+    } else if (!hs.mcts.sequence.empty()) {
+      std::vector<int>& seq = last_sequence_[id];
+      seq.clear();
+      for (int node : hs.mcts.sequence) seq.push_back(hs.problem.node_guidepoint[node]);
+    }
+  }
+}
+
+std::vector<int> HierarchicalPlanner::warmSequence(int id, const GuidepointProblem& problem) const {
+  const auto it = last_sequence_.find(id);
+  if (!config_.warm_start_sequences || it == last_sequence_.end()) return {};
+  std::map<int, int> node_of;
+  for (size_t node = 1; node < problem.node_guidepoint.size(); ++node)
+    node_of[problem.node_guidepoint[node]] = static_cast<int>(node);
+  std::vector<int> nodes;
+  for (int g : it->second)
+    if (const auto n = node_of.find(g); n != node_of.end()) nodes.push_back(n->second);
+  return nodes;
 }
 
 const std::vector<int>* HierarchicalPlanner::warmStart() const {

@@ -150,9 +150,9 @@ struct Rollout {
   double length = kUnreachable;
 };
 
-// The root rollout has no warm start: it starts from the assignment relaxation and gets a
-// larger kick budget (its tour seeds every later rollout through the warm starts), shared by
-// its chains.
+// The root rollout starts from the assignment relaxation, or from the caller's warm order
+// (the last plan's sequence), and gets a larger kick budget (its tour seeds every later
+// rollout through the warm starts), shared by its chains.
 AtspConfig rootConfig(const MctsConfig& c) {
   AtspConfig a = c.rollout;
   a.assignment_start = true;
@@ -163,11 +163,13 @@ AtspConfig rootConfig(const MctsConfig& c) {
 
 class Search {
  public:
-  Search(const MctsProblem& p, const MctsConfig& c, uint64_t seed, RolloutPool* pool)
+  Search(const MctsProblem& p, const MctsConfig& c, uint64_t seed, RolloutPool* pool,
+         std::vector<int> root_warm)
       : p_(p),
         c_(c),
         seed_(seed),
         pool_(pool),
+        root_warm_(std::move(root_warm)),
         m_(p.cost.size()),
         solver_(c.rollout),
         root_solver_(rootConfig(c)),
@@ -257,7 +259,9 @@ class Search {
       for (int j = 1; j < k; ++j)
         if (i != j) sub(i, j) = edge(idx[i], idx[j]);
     std::vector<int> warm;
-    if (parent_seq) {
+    if (node == 0 && !root_warm_.empty()) {
+      warm = root_warm_;  // the root's sub-problem is the whole problem: same node numbers
+    } else if (parent_seq) {
       std::vector<int> local(m_, -1);
       for (int i = 0; i < k; ++i) local[idx[i]] = i;
       warm.push_back(0);
@@ -267,10 +271,11 @@ class Search {
     }
     const uint64_t seed = mix(seed_, node);
     // Only the root rollout runs outside the pool's jobs, so only its chains may use the pool.
-    const AtspResult a = warm.empty()
-                             ? root_solver_.solveOpenPath(sub, 0, AtspSolver::kFreeEnd, seed,
-                                                          nullptr, node == 0 ? &parallel_ : nullptr)
-                             : solver_.solveOpenPath(sub, 0, AtspSolver::kFreeEnd, seed, &warm);
+    const AtspResult a =
+        node == 0      ? root_solver_.solveOpenPath(sub, 0, AtspSolver::kFreeEnd, seed,
+                                               warm.empty() ? nullptr : &warm, &parallel_)
+        : warm.empty() ? root_solver_.solveOpenPath(sub, 0, AtspSolver::kFreeEnd, seed)
+                       : solver_.solveOpenPath(sub, 0, AtspSolver::kFreeEnd, seed, &warm);
     for (size_t q = 1; q < a.order.size(); ++q) r.sequence.push_back(idx[a.order[q]]);
     r.length = nodes_[node].prefix_len + a.cost;
     return r;
@@ -349,6 +354,7 @@ class Search {
   const MctsConfig& c_;
   uint64_t seed_;
   RolloutPool* pool_;
+  std::vector<int> root_warm_;
   int m_;
   AtspSolver solver_, root_solver_;
   ParallelFor parallel_;
@@ -364,9 +370,43 @@ MctsSequencer::MctsSequencer(MctsConfig config) : config_(config) {
   if (config_.threads > 1) pool_ = std::make_shared<RolloutPool>(config_.threads - 1);
 }
 
-MctsResult MctsSequencer::solve(const MctsProblem& problem, uint64_t seed) const {
+MctsResult MctsSequencer::solve(const MctsProblem& problem, uint64_t seed,
+                                const std::vector<int>* root_warm) const {
   checkProblem(problem);
-  return Search(problem, config_, seed, pool_.get()).run();
+  return Search(problem, config_, seed, pool_.get(),
+                root_warm ? warmRootOrder(problem, *root_warm) : std::vector<int>{})
+      .run();
+}
+
+std::vector<int> warmRootOrder(const MctsProblem& p, const std::vector<int>& previous) {
+  checkProblem(p);
+  const int m = p.cost.size();
+  std::vector<char> in(m, 0);
+  in[0] = 1;
+  std::vector<int> path{0};
+  for (int g : previous)
+    if (g > 0 && g < m && !in[g]) in[g] = 1, path.push_back(g);
+  if (path.size() == 1) return {};
+  // Cheapest insertion of the rest, never before the first (the root's edge is priced only
+  // for exploring guidepoints); the return to the robot is free, so the end costs only the
+  // edge into g. An unreachable edge makes its slot infinite (or NaN), never the cheapest.
+  for (int g = 1; g < m; ++g) {
+    if (in[g]) continue;
+    size_t best_pos = path.size();
+    double best = p.cost(path.back(), g);
+    for (size_t q = 2; q < path.size(); ++q) {
+      const double d = p.cost(path[q - 1], g) + p.cost(g, path[q]) - p.cost(path[q - 1], path[q]);
+      if (d < best) best = d, best_pos = q;
+    }
+    path.insert(path.begin() + static_cast<std::ptrdiff_t>(best_pos), g);
+    in[g] = 1;
+  }
+  // The first exploring one leads; the rest keep their order.
+  const auto lead =
+      std::find_if(path.begin() + 1, path.end(), [&](int g) { return p.exploring[g]; });
+  if (lead == path.end()) return {};
+  std::rotate(path.begin() + 1, lead, lead + 1);
+  return path;
 }
 
 MctsResult initialMctsResult(int nodes) {

@@ -326,6 +326,20 @@ TEST(HierarchicalPlanner, AWarmStartKeepsTheLastTourThroughATie) {
   EXPECT_EQ(firstXAfter(false, 0.5) > 0.0, firstXAfter(false, -0.5) > 0.0);
 }
 
+// The first guidepoint of a guided plan made with the robot at (x_m, 0, 1) in scene `sc` over
+// `prior`, by a planner that keeps what it remembers between calls (one hypothesis, scale 1).
+int firstGuidepointFrom(HierarchicalPlanner& planner, const GuidepointPrior& prior, Scene& sc,
+                        double x_m) {
+  sc.robot.position_world_m = {x_m, 0.0, 1.0};
+  PlanningInput in = sc.input();
+  in.prior = &prior;
+  in.hypotheses = {Hypothesis{4, Sim2(), 1.0}};
+  const PlanningResult r = planner.plan(in);
+  EXPECT_EQ(r.mode_used, BaselineMode::kProposed);
+  EXPECT_EQ(r.selection.guidepoint_sequence.size(), static_cast<size_t>(prior.size()));
+  return r.selection.guidepoint_sequence.empty() ? -1 : r.selection.guidepoint_sequence.front();
+}
+
 // keep_first_guidepoint_fraction: a corridor of 5 guidepoints (x = 0 .. 80) with work at both
 // ends and the robot near the middle. 0.5 m east of it the east end comes first; 0.5 m west the
 // west end is 1 m shorter in about 119 m, a near tie: with 3 % the east end stays first, without
@@ -338,19 +352,8 @@ TEST(HierarchicalPlanner, TheLastFirstGuidepointStaysThroughANearTie) {
     HierarchicalPlannerConfig c;
     c.keep_first_guidepoint_fraction = fraction;
     HierarchicalPlanner planner(c);
-    sc.robot.position_world_m = {40.5, 0.0, 1.0};
-    PlanningInput in = sc.input();
-    in.prior = &prior;
-    in.hypotheses = {Hypothesis{4, Sim2(), 1.0}};
-    const PlanningResult first = planner.plan(in);
-    EXPECT_EQ(first.selection.guidepoint_sequence.front(), 4);
-    sc.robot.position_world_m = {second_x_m, 0.0, 1.0};
-    in = sc.input();
-    in.prior = &prior;
-    in.hypotheses = {Hypothesis{4, Sim2(), 1.0}};
-    const PlanningResult second = planner.plan(in);
-    EXPECT_EQ(second.mode_used, BaselineMode::kProposed);
-    return second.selection.guidepoint_sequence.front();
+    EXPECT_EQ(firstGuidepointFrom(planner, prior, sc, 40.5), 4);
+    return firstGuidepointFrom(planner, prior, sc, second_x_m);
   };
   EXPECT_EQ(firstAfter(0.03, 39.5), 4);
   EXPECT_EQ(firstAfter(0.0, 39.5), 0);
@@ -358,6 +361,28 @@ TEST(HierarchicalPlanner, TheLastFirstGuidepointStaysThroughANearTie) {
   HierarchicalPlannerConfig bad;
   bad.keep_first_guidepoint_fraction = -0.1;
   EXPECT_THROW(bad.validate(), ConfigError);
+}
+
+// warm_start_sequences: a corridor of 21 guidepoints (x = 0 .. 400, beyond the exact solver)
+// with work at both ends and the robot in the middle. 0.5 m east of it the east end comes first,
+// 0.5 m west the west end; from the middle both sequences are 599 m long. With the warm start
+// the second plan keeps the first plan's end; without it (every plan solved afresh) its answer
+// does not depend on the first plan.
+TEST(HierarchicalPlanner, AWarmStartedSequenceKeepsItsFirstGuidepointThroughATie) {
+  const GuidepointPrior prior = corridor(21);
+  Scene sc;
+  sc.vps = {PlanViewpoint{0, {1.0, 0.0, 1.0}, 0.0}, PlanViewpoint{1, {399.0, 0.0, 1.0}, 0.0}};
+  const auto firstAfter = [&](bool warm, double first_x_m) {
+    HierarchicalPlannerConfig c;
+    c.warm_start_sequences = warm;
+    c.reuse_sequences = false;  // the memo would answer the second plan from the first
+    HierarchicalPlanner planner(c);
+    EXPECT_EQ(firstGuidepointFrom(planner, prior, sc, first_x_m), first_x_m > 200.0 ? 20 : 0);
+    return firstGuidepointFrom(planner, prior, sc, 200.0);
+  };
+  EXPECT_EQ(firstAfter(true, 200.5), 20);
+  EXPECT_EQ(firstAfter(true, 199.5), 0);
+  EXPECT_EQ(firstAfter(false, 200.5), firstAfter(false, 199.5));
 }
 
 // The guided tour bounds its searches likewise: with 24 viewpoints around the first guidepoint

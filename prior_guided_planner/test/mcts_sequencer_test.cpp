@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <string>
 #include <thread>
@@ -145,6 +146,57 @@ TEST(MctsSequencer, MoreIterationsNeverWorse) {
     const double len = MctsSequencer(c).solve(p).length;
     EXPECT_LE(len, prev + 1e-9);
     prev = len;
+  }
+}
+
+// The warm order keeps the previous sequence's order, drops what the problem no longer has (or
+// never had), inserts the new guidepoint where it lengthens the path least and lets the first
+// exploring guidepoint lead.
+TEST(MctsSequencer, WarmRootOrderKeepsThePreviousOrderAndInsertsTheRest) {
+  // Five guidepoints on a line at x = 10, 20, ..., 50 (node k at 10 k); the robot at x = 0.
+  MctsProblem p;
+  p.cost = CostMatrix(6);
+  p.exploring = {false, false, true, false, true, false};
+  for (int i = 0; i < 6; ++i)
+    for (int j = 1; j < 6; ++j)
+      if (i != j) p.cost(i, j) = 10.0 * std::abs(i - j);
+  // 3 is missing: between 2 and 4 it costs nothing extra. 1 leads the previous order but is
+  // not exploring, so 2 (the first exploring one) moves in front of it.
+  EXPECT_EQ(warmRootOrder(p, {1, 2, 9, 4, 2, 0, -3, 5}), (std::vector<int>{0, 2, 1, 3, 4, 5}));
+  // 5 -> 3 -> 2 -> 1 walks back along the line at no extra cost after 4, 5.
+  EXPECT_EQ(warmRootOrder(p, {4, 5}), (std::vector<int>{0, 4, 5, 3, 2, 1}));
+  // Nothing of the previous sequence left, or nothing exploring: no warm start.
+  EXPECT_TRUE(warmRootOrder(p, {}).empty());
+  EXPECT_TRUE(warmRootOrder(p, {7, 0}).empty());
+  std::fill(p.exploring.begin(), p.exploring.end(), false);
+  EXPECT_TRUE(warmRootOrder(p, {1, 2}).empty());
+}
+
+// Started from the previous plan's sequence, the root's search accepts only equal or shorter
+// sequences, so the result is never longer than that sequence (40 guidepoints: beyond the exact
+// solver, where the search is heuristic and each cold solve may end elsewhere).
+TEST(MctsSequencer, AWarmStartIsNeverLengthened) {
+  for (uint64_t seed = 1; seed <= 4; ++seed) {
+    const MctsProblem p = randomProblem(40, 5, seed);
+    const MctsResult cold = MctsSequencer().solve(p, seed);
+    ASSERT_TRUE(cold.feasible);
+    const MctsResult warm = MctsSequencer().solve(p, seed + 100, &cold.sequence);
+    ASSERT_TRUE(warm.feasible);
+    EXPECT_LE(warm.length, cold.length + 1e-9);
+    EXPECT_NEAR(sequenceLength(p, warm.sequence), warm.length, 1e-9);
+    EXPECT_TRUE(p.exploring[warm.sequence.front()]);
+    // From a poor order (the guidepoints by number, exploring ones first) the search improves
+    // on it, and the answer is still a valid sequence.
+    std::vector<int> poor;
+    for (int g = 1; g <= 40; ++g)
+      if (p.exploring[g]) poor.push_back(g);
+    for (int g = 1; g <= 40; ++g)
+      if (!p.exploring[g]) poor.push_back(g);
+    const MctsResult from_poor = MctsSequencer().solve(p, seed, &poor);
+    EXPECT_LT(from_poor.length, sequenceLength(p, poor));
+    std::vector<int> sorted = from_poor.sequence;
+    std::sort(sorted.begin(), sorted.end());
+    for (int k = 0; k < 40; ++k) EXPECT_EQ(sorted[k], k + 1);
   }
 }
 

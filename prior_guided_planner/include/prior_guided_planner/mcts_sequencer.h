@@ -81,7 +81,10 @@ class MctsSequencer {
   /// threads at once (their rollout batches take turns on the pool).
   MctsResult solve(const MctsProblem& problem) const { return solve(problem, config_.seed); }
   /// The same with another seed (e.g. one per hypothesis), reusing this sequencer's workers.
-  MctsResult solve(const MctsProblem& problem, uint64_t seed) const;
+  /// `root_warm`, if given, starts the root rollout from that visiting order instead of the
+  /// assignment relaxation (warmRootOrder); its entries are problem nodes, any subset.
+  MctsResult solve(const MctsProblem& problem, uint64_t seed,
+                   const std::vector<int>* root_warm = nullptr) const;
   const MctsConfig& config() const { return config_; }
 
  private:
@@ -93,6 +96,13 @@ class MctsSequencer {
 /// The result of a problem of `nodes` nodes before any sequence is found: every per-node entry
 /// unreachable. With no guidepoint (nodes == 1) it is already final: the empty sequence, length 0.
 MctsResult initialMctsResult(int nodes);
+
+/// The root rollout's warm start from a previous plan's sequence: `previous` (problem nodes;
+/// unknown, repeated and robot entries dropped) in its order, the problem's other guidepoints
+/// each put where it lengthens the sequence least, and the first exploring one moved to the
+/// front (the root expands only to those). Returns the path 0, ..., over all nodes, or an empty
+/// vector when no guidepoint of `previous` is left or none is exploring.
+std::vector<int> warmRootOrder(const MctsProblem& problem, const std::vector<int>& previous);
 
 /// Exhaustive search over all sequences (n <= 9), for tests and benches.
 MctsResult solveSequenceExhaustive(const MctsProblem& problem);

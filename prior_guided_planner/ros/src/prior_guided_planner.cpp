@@ -126,6 +126,7 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("mcts_threads", e.planner.mcts.threads);
   p.get("mcts_reuse_sequences", e.planner.reuse_sequences);
   p.get("warm_start_tours", e.planner.warm_start_tours);
+  p.get("warm_start_sequences", e.planner.warm_start_sequences);
   p.get("keep_first_guidepoint_fraction", e.planner.keep_first_guidepoint_fraction);
   p.get("greedy_sensor_range_m", e.planner.greedy.sensor_range_m);
   int max_cells = static_cast<int>(c.markers.max_frontier_cells);
