@@ -173,52 +173,39 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) {
   return res;
 }
 
+namespace {
+// The guidepoint sequence of hypothesis k in plan `res`. The guiding hypothesis' is the one the
+// vehicle was sent along, which with several hypotheses (CalcRisk) need not be its own shortest.
+std::vector<int> plannedSequence(const PlanningResult& res, size_t k) {
+  if (static_cast<int>(k) == res.selection.hypothesis && !res.selection.guidepoint_sequence.empty())
+    return res.selection.guidepoint_sequence;
+  return toGuidepoints(res.sequences[k].problem, res.sequences[k].mcts.sequence);
+}
+}  // namespace
+
 void HierarchicalPlanner::rememberFirstGuidepoints(const PlanningInput& in,
                                                    const PlanningResult& res) {
   if (!(config_.keep_first_guidepoint_fraction > 0.0)) return;
   last_first_guidepoint_.clear();
   for (size_t k = 0; k < res.sequences.size(); ++k) {
-    const HypothesisSequence& hs = res.sequences[k];
-    const int id = in.hypotheses[res.used_hypotheses[k]].id;
-    // The guiding hypothesis' first guidepoint is the one the vehicle was sent to, which with
-    // several hypotheses need not begin that hypothesis' own best sequence.
-    if (static_cast<int>(k) == res.selection.hypothesis &&
-        !res.selection.guidepoint_sequence.empty()) {
-      last_first_guidepoint_[id] = res.selection.guidepoint_sequence.front();
-    } else if (!hs.mcts.sequence.empty()) {
-      last_first_guidepoint_[id] = hs.problem.node_guidepoint[hs.mcts.sequence.front()];
-    }
+    const std::vector<int> seq = plannedSequence(res, k);
+    if (!seq.empty())
+      last_first_guidepoint_[in.hypotheses[res.used_hypotheses[k]].id] = seq.front();
   }
 }
 
 void HierarchicalPlanner::rememberSequences(const PlanningInput& in, const PlanningResult& res) {
   if (!config_.warm_start_sequences) return;
   for (size_t k = 0; k < res.sequences.size(); ++k) {
-    const HypothesisSequence& hs = res.sequences[k];
-    const int id = in.hypotheses[res.used_hypotheses[k]].id;
-    // The guiding hypothesis keeps the sequence the vehicle was sent along, which with several
-    // hypotheses (CalcRisk) need not be its own shortest.
-    if (static_cast<int>(k) == res.selection.hypothesis &&
-        !res.selection.guidepoint_sequence.empty()) {
-      last_sequence_[id] = res.selection.guidepoint_sequence;
-    } else if (!hs.mcts.sequence.empty()) {
-      std::vector<int>& seq = last_sequence_[id];
-      seq.clear();
-      for (int node : hs.mcts.sequence) seq.push_back(hs.problem.node_guidepoint[node]);
-    }
+    std::vector<int> seq = plannedSequence(res, k);
+    if (!seq.empty()) last_sequence_[in.hypotheses[res.used_hypotheses[k]].id] = std::move(seq);
   }
 }
 
 std::vector<int> HierarchicalPlanner::warmSequence(int id, const GuidepointProblem& problem) const {
   const auto it = last_sequence_.find(id);
   if (!config_.warm_start_sequences || it == last_sequence_.end()) return {};
-  std::map<int, int> node_of;
-  for (size_t node = 1; node < problem.node_guidepoint.size(); ++node)
-    node_of[problem.node_guidepoint[node]] = static_cast<int>(node);
-  std::vector<int> nodes;
-  for (int g : it->second)
-    if (const auto n = node_of.find(g); n != node_of.end()) nodes.push_back(n->second);
-  return nodes;
+  return toProblemNodes(problem, it->second);
 }
 
 const std::vector<int>* HierarchicalPlanner::warmStart() const {

@@ -363,23 +363,8 @@ class Search {
   double norm_ = 1.0;
 };
 
-}  // namespace
-
-MctsSequencer::MctsSequencer(MctsConfig config) : config_(config) {
-  config_.validate();
-  if (config_.threads > 1) pool_ = std::make_shared<RolloutPool>(config_.threads - 1);
-}
-
-MctsResult MctsSequencer::solve(const MctsProblem& problem, uint64_t seed,
-                                const std::vector<int>* root_warm) const {
-  checkProblem(problem);
-  return Search(problem, config_, seed, pool_.get(),
-                root_warm ? warmRootOrder(problem, *root_warm) : std::vector<int>{})
-      .run();
-}
-
-std::vector<int> warmRootOrder(const MctsProblem& p, const std::vector<int>& previous) {
-  checkProblem(p);
+// warmRootOrder of a problem already checked: solve() checks it once (an O(n^2) pass).
+std::vector<int> warmRootOrderOfChecked(const MctsProblem& p, const std::vector<int>& previous) {
   const int m = p.cost.size();
   std::vector<char> in(m, 0);
   in[0] = 1;
@@ -407,6 +392,26 @@ std::vector<int> warmRootOrder(const MctsProblem& p, const std::vector<int>& pre
   if (lead == path.end()) return {};
   std::rotate(path.begin() + 1, lead, lead + 1);
   return path;
+}
+
+}  // namespace
+
+MctsSequencer::MctsSequencer(MctsConfig config) : config_(config) {
+  config_.validate();
+  if (config_.threads > 1) pool_ = std::make_shared<RolloutPool>(config_.threads - 1);
+}
+
+MctsResult MctsSequencer::solve(const MctsProblem& problem, uint64_t seed,
+                                const std::vector<int>* root_warm) const {
+  checkProblem(problem);
+  return Search(problem, config_, seed, pool_.get(),
+                root_warm ? warmRootOrderOfChecked(problem, *root_warm) : std::vector<int>{})
+      .run();
+}
+
+std::vector<int> warmRootOrder(const MctsProblem& p, const std::vector<int>& previous) {
+  checkProblem(p);
+  return warmRootOrderOfChecked(p, previous);
 }
 
 MctsResult initialMctsResult(int nodes) {

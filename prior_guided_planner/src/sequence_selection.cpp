@@ -143,13 +143,27 @@ double meanRobotLength(const ViewpointGroup& g, const std::vector<double>& l) {
   return k ? s / k : kUnreachable;
 }
 
+}  // namespace
+
 std::vector<int> toGuidepoints(const GuidepointProblem& p, const std::vector<int>& nodes) {
   std::vector<int> out;
   for (int k : nodes) out.push_back(p.node_guidepoint[k]);
   return out;
 }
 
-}  // namespace
+std::vector<int> toProblemNodes(const GuidepointProblem& p, const std::vector<int>& guidepoints) {
+  int max_g = -1;
+  for (int g : p.node_guidepoint) max_g = std::max(max_g, g);
+  std::vector<int> node_of(static_cast<size_t>(max_g + 1), -1);
+  for (size_t k = 1; k < p.node_guidepoint.size(); ++k)
+    if (p.node_guidepoint[k] >= 0)
+      node_of[static_cast<size_t>(p.node_guidepoint[k])] = static_cast<int>(k);
+  std::vector<int> out;
+  for (int g : guidepoints)
+    if (g >= 0 && g <= max_g && node_of[static_cast<size_t>(g)] > 0)
+      out.push_back(node_of[static_cast<size_t>(g)]);
+  return out;
+}
 
 std::vector<double> calcRisk(const std::vector<ViewpointGroup>& groups,
                              const std::vector<HypothesisSequence>& sequences,

@@ -326,6 +326,15 @@ TEST(HierarchicalPlanner, AWarmStartKeepsTheLastTourThroughATie) {
   EXPECT_EQ(firstXAfter(false, 0.5) > 0.0, firstXAfter(false, -0.5) > 0.0);
 }
 
+// A viewpoint 1 m inside each end of a corridor(n) prior (x = 0 .. 20 (n - 1)).
+Scene workAtBothEnds(const GuidepointPrior& corridor_prior) {
+  Scene sc;
+  const double far_x_m = corridor_prior.positions_sketch_m.back().x();
+  sc.vps = {PlanViewpoint{0, {1.0, 0.0, 1.0}, 0.0},
+            PlanViewpoint{1, {far_x_m - 1.0, 0.0, 1.0}, 0.0}};
+  return sc;
+}
+
 // The first guidepoint of a guided plan made with the robot at (x_m, 0, 1) in scene `sc` over
 // `prior`, by a planner that keeps what it remembers between calls (one hypothesis, scale 1).
 int firstGuidepointFrom(HierarchicalPlanner& planner, const GuidepointPrior& prior, Scene& sc,
@@ -346,8 +355,7 @@ int firstGuidepointFrom(HierarchicalPlanner& planner, const GuidepointPrior& pri
 // it the planner turns round. 5 m west (a 10 m gap) it turns round either way.
 TEST(HierarchicalPlanner, TheLastFirstGuidepointStaysThroughANearTie) {
   const GuidepointPrior prior = corridor(5);
-  Scene sc;
-  sc.vps = {PlanViewpoint{0, {1.0, 0.0, 1.0}, 0.0}, PlanViewpoint{1, {79.0, 0.0, 1.0}, 0.0}};
+  Scene sc = workAtBothEnds(prior);
   const auto firstAfter = [&](double fraction, double second_x_m) {
     HierarchicalPlannerConfig c;
     c.keep_first_guidepoint_fraction = fraction;
@@ -370,8 +378,7 @@ TEST(HierarchicalPlanner, TheLastFirstGuidepointStaysThroughANearTie) {
 // does not depend on the first plan.
 TEST(HierarchicalPlanner, AWarmStartedSequenceKeepsItsFirstGuidepointThroughATie) {
   const GuidepointPrior prior = corridor(21);
-  Scene sc;
-  sc.vps = {PlanViewpoint{0, {1.0, 0.0, 1.0}, 0.0}, PlanViewpoint{1, {399.0, 0.0, 1.0}, 0.0}};
+  Scene sc = workAtBothEnds(prior);
   const auto firstAfter = [&](bool warm, double first_x_m) {
     HierarchicalPlannerConfig c;
     c.warm_start_sequences = warm;

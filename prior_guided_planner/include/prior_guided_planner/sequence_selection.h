@@ -35,6 +35,11 @@ GuidepointProblem buildGuidepointProblem(const HypothesisAttachment& attachment,
                                          const std::vector<double>& robot_to_viewpoint_m,
                                          const SequencingConfig& config);
 
+/// Problem nodes (k >= 1) of `p` as guidepoint indices.
+std::vector<int> toGuidepoints(const GuidepointProblem& p, const std::vector<int>& nodes);
+/// Guidepoint indices as problem nodes of `p`, in order; those that are no node of it are left out.
+std::vector<int> toProblemNodes(const GuidepointProblem& p, const std::vector<int>& guidepoints);
+
 /// One hypothesis' MCTS outcome as the selection step needs it.
 struct HypothesisSequence {
   double confidence = 1.0;
