@@ -64,7 +64,7 @@ PlanLog::PlanLog(std::ostream& out) : out_(out) {
           "next_guidepoint_y_m,terminal_x_m,terminal_y_m,goal_x_m,goal_y_m,goal_z_m,viewpoint_x_m,"
           "viewpoint_y_m,viewpoint_z_m,tour,guidepoints,replan_reason,target_viewpoint_id,"
           "previous_target_rank,first_guidepoint,previous_first_state,first_switch_gap_m,"
-          "first_switch_leg_gap_m,message\n";
+          "first_switch_leg_gap_m,well_observed_cells,message\n";
 }
 
 void PlanLog::record(double time_s, const Eigen::Vector3d& robot,
@@ -127,7 +127,8 @@ void PlanLog::record(double time_s, const Eigen::Vector3d& robot,
   if (sw.previous_state) out_ << kLetter[static_cast<int>(*sw.previous_state)];
   number(sw.gap_m);
   number(sw.first_leg_gap_m);
-  out_ << ',' << csvQuoted(target.message) << '\n';
+  out_ << ',' << manager.observationMap().numWellObserved() << ',' << csvQuoted(target.message)
+       << '\n';
   previous_target_id_ = target.goal_viewpoint_id;
   previous_first_ = sw.first;
   previous_hypothesis_id_ = plan->active_hypothesis_id;

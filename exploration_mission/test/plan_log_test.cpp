@@ -95,6 +95,10 @@ TEST(PlanLog, OneLinePerPlanWithTheHeadersColumns) {
   // What the plan said, whole, though it holds commas.
   EXPECT_EQ(column(header, row, "message"), t.message);
   EXPECT_NE(t.message.find(','), std::string::npos) << t.message;
+  // How much surface the map had seen well by then: what a stalled end of a flight is read from.
+  EXPECT_EQ(column(header, row, "well_observed_cells"),
+            std::to_string(m.observationMap().numWellObserved()));
+  EXPECT_GT(m.observationMap().numWellObserved(), 0u);
 }
 
 TEST(PlanLog, SaysWhyEachPlanRanAndWhereThePreviousTargetWent) {

@@ -24,6 +24,8 @@ void ExplorationManagerConfig::validate() const {
   path.validate();
   planner.validate();
   openings.validate();
+  reached_openings.validate();
+  last_resort_stall.validate();
   requireInRange("replan_period_s", replan_period_s, 0.0, 3600.0);
   requireInRange("target_reached_m", target_reached_m, 1e-3, 1e3);
   requireInRange("target_progress_m", target_progress_m, 0.0, 1e3);
@@ -117,7 +119,8 @@ ExplorationManager::ExplorationManager(const ExplorationManagerConfig& config,
       path_cache_(occupancy_, config_.path),
       planner_(config_.planner),
       opening_membership_(config_.openings_stay_in_tour),
-      reached_openings_(config_.reached_openings) {
+      reached_openings_(config_.reached_openings),
+      stall_(config_.last_resort_stall) {
   if (prior_) prior_->validate();
   if (config_.fine_path_resolution_factor > 1) {
     PathSearchConfig fine = config_.path;
@@ -348,7 +351,9 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   // Still nothing: the reached openings that have moved on since get another look before the
   // exploration ends (ReachedOpenings). Only then: revisiting them as soon as they moved slowed
   // the small garage's guided flight (seed 1) from 79.1 to 85.4 s.
+  bool last_resorts = false;
   if (vps.empty() && moved_openings > 0) {
+    last_resorts = true;
     retry_note += ", " + std::to_string(moved_openings) +
                   " reached opening(s) that moved on looked at again (nothing else left)";
     revisit_moved_openings = true;
@@ -365,10 +370,25 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
     if (!vouched.empty()) {
       openings.reset();
       collect();
-      if (!vps.empty())
+      if (!vps.empty()) {
+        last_resorts = true;
         retry_note += ", " + std::to_string(vps.size()) +
                       " opening(s) the sketch vouches for looked at (nothing else left)";
+      }
     }
+  }
+  // The last resorts are looked at while looking pays (last_resort_stall).
+  stall_.record(time_s, observation_.numWellObserved());
+  stall_note_.clear();
+  if (last_resorts && !vps.empty() && stall_.stalled(time_s)) {
+    std::ostringstream os;
+    os << " (" << vps.size() << " last resort(s) given up: " << stall_.cellsSinceLastGain()
+       << " well-observed cells gained in the last "
+       << std::round(time_s - *stall_.lastGainTime_s()) << " s)";
+    stall_note_ = os.str();
+    vps.clear();
+    vp_cluster.clear();
+    opening_look_at_.clear();
   }
   for (const PlanViewpoint& old : viewpoints_)
     if (!alive.count(old.id)) path_cache_.forget(static_cast<uint64_t>(old.id));
@@ -440,12 +460,12 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
         std::ostringstream os;
         os << "no viewpoint remains for " << std::round(10.0 * held_s) / 10.0
            << " s: the end is confirmed after " << config_.finish_confirmation_s
-           << " s with new scans";
+           << " s with new scans" << stall_note_;
         plan_message_ = os.str();
         return;
       }
       target_.state = ExplorationState::kFinished;
-      plan_message_ = "no viewpoint remains: exploration finished";
+      plan_message_ = "no viewpoint remains: exploration finished" + stall_note_;
       if (reached_alive > 0)
         plan_message_ += " (" + std::to_string(reached_alive) +
                          " reached and still there: its frontier or opening not cleared from it)";

@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <set>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -768,6 +769,90 @@ TEST(ExplorationManager, GreedyPriorModeFollowsThePredictedCorridor) {
   EXPECT_EQ(t.tour_world_m.size(), 1u);
 }
 
+// The last resorts are looked at while looking pays (last_resort_stall). A hall split at x = 5
+// by a wall with a 0.6 m slit, scanned at 6 m: the slit's opening is reached and is a dead end,
+// nothing else is left. A look through the slit from afar (40 m) then moves the opening on into
+// the far part while adding a handful of well-observed cells (the far walls are seen from too
+// far): a last resort. Looked at, it opens the far part; given up once the map has not gained
+// last_resort_min_new_cells for last_resort_patience_s, the flight ends where it is.
+struct SlitFlight {
+  std::vector<std::string> messages;
+  double max_x_m = -1e9;
+  ExplorationState end = ExplorationState::kWaitingForData;
+};
+SlitFlight flyTheSlitHall(const StallConfig& stall) {
+  Scene s;
+  s.room = {{-5, -4, 0}, {15, 4, 3}};
+  s.solids.push_back({{5.0, -4, 0}, {5.3, -0.3, 3}});
+  s.solids.push_back({{5.0, 0.3, 0}, {5.3, 4, 3}});
+  // A guided flight: a drawing of the hall, its guidepoints in both parts.
+  GuidepointPrior prior;
+  prior.positions_sketch_m = {{0.0, 0.0}, {3.0, 0.0}, {12.0, 2.0}};
+  prior.ids = {0, 1, 2};
+  prior.prm_distance_m = CostMatrix(3);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      prior.prm_distance_m(i, j) =
+          (prior.positions_sketch_m[i] - prior.positions_sketch_m[j]).norm();
+  ExplorationManagerConfig c;
+  c.last_resort_stall = stall;
+  ExplorationManager m(c, prior);
+  m.setHypotheses({Hypothesis{1, Sim2(), 0.9}});
+  const auto scan = [&](const Eigen::Vector3d& o, double range_m) {
+    m.insertScan(o, toFloat(s.scanSphere(o, 1.0, range_m)));
+  };
+  const Eigen::Vector3d start(0.0, 0.0, 1.5);
+  Eigen::Vector3d pos = start;
+  scan(pos, 6.0);
+  SlitFlight f;
+  bool looked_from_afar = false;
+  for (double t_s = 0.0; t_s < 200.0; t_s += 2.0) {
+    const ExplorationTarget& t = m.update(t_s, at(pos));
+    f.messages.push_back(t.message);
+    f.end = t.state;
+    if (t.state == ExplorationState::kFinished) break;
+    if (t.has_goal) pos = t.goal_world_m;
+    f.max_x_m = std::max(f.max_x_m, pos.x());
+    if (!t.has_goal && !looked_from_afar) {
+      looked_from_afar = true;
+      scan(start, 40.0);
+    } else {
+      scan(pos, 6.0);
+    }
+  }
+  return f;
+}
+
+bool anyMessageHas(const SlitFlight& f, const std::string& text) {
+  return std::any_of(f.messages.begin(), f.messages.end(),
+                     [&](const std::string& m) { return m.find(text) != std::string::npos; });
+}
+
+TEST(ExplorationManager, TheLastResortsAreGivenUpOnceTheMapStoppedGaining) {
+  const SlitFlight looked = flyTheSlitHall(StallConfig{});  // off: looked at until none is left
+  ASSERT_EQ(looked.end, ExplorationState::kFinished) << looked.messages.back();
+  EXPECT_TRUE(anyMessageHas(looked, "moved on looked at again"));
+  EXPECT_FALSE(anyMessageHas(looked, "given up:"));
+  EXPECT_GT(looked.max_x_m, 8.0);  // the far part was flown into
+
+  // No gain large enough since the first plan, and the patience is over: given up.
+  StallConfig impatient;
+  impatient.patience_s = 1.0;
+  impatient.min_new_cells = 100000000;
+  const SlitFlight ended = flyTheSlitHall(impatient);
+  ASSERT_EQ(ended.end, ExplorationState::kFinished) << ended.messages.back();
+  EXPECT_FALSE(anyMessageHas(ended, "moved on looked at again"));
+  EXPECT_NE(ended.messages.back().find("1 last resort(s) given up: "), std::string::npos)
+      << ended.messages.back();
+  EXPECT_LT(ended.max_x_m, 5.0);  // never through the slit
+
+  // The same gain wanted, but patience left: looked at as without the watch.
+  StallConfig patient = impatient;
+  patient.patience_s = 100.0;
+  const SlitFlight waited = flyTheSlitHall(patient);
+  EXPECT_EQ(waited.messages, looked.messages);
+}
+
 TEST(ExplorationManager, ConfigErrorsNameTheKey) {
   auto expectKey = [](ExplorationManagerConfig c, const std::string& key) {
     efs::testing::expectConfigErrorNaming([&] { ExplorationManager m(c, std::nullopt); }, key);
@@ -820,6 +905,12 @@ TEST(ExplorationManager, ConfigErrorsNameTheKey) {
   c = {};
   c.reached_openings.max_visits = 0;
   expectKey(c, "opening_max_visits");
+  c = {};
+  c.last_resort_stall.patience_s = -1.0;
+  expectKey(c, "last_resort_patience_s");
+  c = {};
+  c.last_resort_stall.min_new_cells = 0;
+  expectKey(c, "last_resort_min_new_cells");
 }
 
 TEST(ExplorationManager, MalformedPriorIsRefused) {

@@ -14,13 +14,14 @@
 // gets new ids), so the robot never circles a frontier the scans cannot clear. A far target is
 // handed on in stages along its searched path (max_goal_distance_m), the next stage planned once
 // the robot is half-way to the current one. kFinished when no viewpoint remains, or when the only
-// ones left were given up, and that held finish_confirmation_s with new scans meanwhile: a
-// viewpoint set aside unreachable_attempts times (no progress toward it,
-// the local planner found no way, the path search found none) is not planned for again. Set-aside
-// viewpoints come back after unreachable_retry_s, or at once when nothing else is left, so a flight
-// never hovers for ever in front of viewpoints it cannot reach (seen: the ROS planner retrying five
-// viewpoints every minute until the test's time ran out). kStuck is transient: it says the planner
-// found nothing to send this cycle and will look again on the next update.
+// ones left were given up or are last resorts that stopped paying (last_resort_stall), and that
+// held finish_confirmation_s with new scans meanwhile: a viewpoint set aside unreachable_attempts
+// times (no progress toward it, the local planner found no way, the path search found none) is
+// not planned for again. Set-aside viewpoints come back after unreachable_retry_s, or at once
+// when nothing else is left, so a flight never hovers for ever in front of viewpoints it cannot
+// reach (seen: the ROS planner retrying five viewpoints every minute until the test's time ran
+// out). kStuck is transient: it says the planner found nothing to send this cycle and will look
+// again on the next update.
 #pragma once
 
 #include <Eigen/Core>
@@ -39,6 +40,7 @@
 #include "prior_guided_planner/occupancy_map.h"
 #include "prior_guided_planner/openings.h"
 #include "prior_guided_planner/path_length.h"
+#include "prior_guided_planner/stall_watch.h"
 #include "prior_guided_planner/viewpoint_sampler.h"
 
 namespace efs::planner {
@@ -88,6 +90,12 @@ struct ExplorationManagerConfig {
   /// with its viewpoint 6 m inside the room when the flight ended "exploration complete" at
   /// 89 % coverage, that room never entered.
   ReachedOpeningsConfig reached_openings;
+  /// A plan that finds nothing but its last resorts (reached openings that moved on, pockets
+  /// the sketch vouches for) finds no viewpoint instead once the map has gained fewer than
+  /// last_resort_min_new_cells well-observed surface cells in the last
+  /// last_resort_patience_s (stall_watch.h), and the exploration ends as when none
+  /// remains. Viewpoints set aside and retried early are not last resorts.
+  StallConfig last_resort_stall;
   /// Plan at most this often [s] unless the target is reached, gone, or hypotheses changed.
   double replan_period_s = 1.0;
   /// The target counts as reached when the robot is this close to it [m].
@@ -322,6 +330,10 @@ class ExplorationManager {
   std::unordered_set<VoxelKey, VoxelKeyHash> looked_at_cells_;
   OpeningTourMembership opening_membership_;
   ReachedOpenings reached_openings_;
+  /// The well-observed count at each plan (last_resort_stall).
+  StallWatch stall_;
+  /// Set when the last resorts were given up (last_resort_stall), for the finish message.
+  std::string stall_note_;
   std::map<int, Eigen::Vector3d> opening_look_at_;  ///< per opening viewpoint id
   /// Viewpoints (and openings) set aside as unreachable, until the time given [s].
   std::map<int, double> set_aside_until_s_;

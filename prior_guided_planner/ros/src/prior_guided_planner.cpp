@@ -75,6 +75,8 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("openings_stay_in_tour", e.openings_stay_in_tour);
   p.get("reached_opening_moved_m", e.reached_openings.moved_m);
   p.get("opening_max_visits", e.reached_openings.max_visits);
+  p.get("last_resort_patience_s", e.last_resort_stall.patience_s);
+  p.get("last_resort_min_new_cells", e.last_resort_stall.min_new_cells);
   p.get("max_goal_distance_m", e.max_goal_distance_m);
   p.get("max_goal_climb_m", e.max_goal_climb_m);
   p.get("tour_lookahead_m", e.tour_lookahead_m);

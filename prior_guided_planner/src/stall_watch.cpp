@@ -1,0 +1,30 @@
+// Copyright (c) 2026, explore_from_sketch authors. BSD-3-Clause.
+#include "prior_guided_planner/stall_watch.h"
+
+#include "efs_common/config_check.h"
+
+namespace efs::planner {
+
+void StallConfig::validate() const {
+  requireInRange("last_resort_patience_s", patience_s, 0.0, 1.0e6);
+  requireInRange("last_resort_min_new_cells", min_new_cells, 1, 100000000);
+}
+
+StallWatch::StallWatch(StallConfig config) : config_(config) { config_.validate(); }
+
+void StallWatch::record(double time_s, size_t well_observed_cells) {
+  last_cells_ = well_observed_cells;
+  if (!base_time_s_ ||
+      well_observed_cells >= base_cells_ + static_cast<size_t>(config_.min_new_cells)) {
+    base_time_s_ = time_s;
+    base_cells_ = well_observed_cells;
+  }
+}
+
+bool StallWatch::stalled(double time_s) const {
+  return config_.patience_s > 0.0 && base_time_s_ && time_s - *base_time_s_ >= config_.patience_s;
+}
+
+std::optional<double> StallWatch::lastGainTime_s() const { return base_time_s_; }
+
+}  // namespace efs::planner
