@@ -384,7 +384,8 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
     std::ostringstream os;
     os << " (" << vps.size() << " last resort(s) given up: " << stall_.cellsSinceLastGain()
        << " well-observed cells gained in the last "
-       << std::round(time_s - *stall_.lastGainTime_s()) << " s)";
+       << std::round(time_s - *stall_.lastGainTime_s()) << " s, " << stall_.cellsToGain()
+       << " wanted)";
     stall_note_ = os.str();
     vps.clear();
     vp_cluster.clear();

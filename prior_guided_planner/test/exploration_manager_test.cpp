@@ -774,7 +774,7 @@ TEST(ExplorationManager, GreedyPriorModeFollowsThePredictedCorridor) {
 // nothing else is left. A look through the slit from afar (40 m) then moves the opening on into
 // the far part while adding a handful of well-observed cells (the far walls are seen from too
 // far): a last resort. Looked at, it opens the far part; given up once the map has not gained
-// last_resort_min_new_cells for last_resort_patience_s, the flight ends where it is.
+// last_resort_min_gain_fraction for last_resort_patience_s, the flight ends where it is.
 struct SlitFlight {
   std::vector<std::string> messages;
   double max_x_m = -1e9;
@@ -829,7 +829,9 @@ bool anyMessageHas(const SlitFlight& f, const std::string& text) {
 }
 
 TEST(ExplorationManager, TheLastResortsAreGivenUpOnceTheMapStoppedGaining) {
-  const SlitFlight looked = flyTheSlitHall(StallConfig{});  // off: looked at until none is left
+  StallConfig off;
+  off.patience_s = 0.0;
+  const SlitFlight looked = flyTheSlitHall(off);  // looked at until none is left
   ASSERT_EQ(looked.end, ExplorationState::kFinished) << looked.messages.back();
   EXPECT_TRUE(anyMessageHas(looked, "moved on looked at again"));
   EXPECT_FALSE(anyMessageHas(looked, "given up:"));
@@ -838,7 +840,7 @@ TEST(ExplorationManager, TheLastResortsAreGivenUpOnceTheMapStoppedGaining) {
   // No gain large enough since the first plan, and the patience is over: given up.
   StallConfig impatient;
   impatient.patience_s = 1.0;
-  impatient.min_new_cells = 100000000;
+  impatient.min_gain_fraction = 1.0;  // twice the map in a second
   const SlitFlight ended = flyTheSlitHall(impatient);
   ASSERT_EQ(ended.end, ExplorationState::kFinished) << ended.messages.back();
   EXPECT_FALSE(anyMessageHas(ended, "moved on looked at again"));
@@ -909,8 +911,8 @@ TEST(ExplorationManager, ConfigErrorsNameTheKey) {
   c.last_resort_stall.patience_s = -1.0;
   expectKey(c, "last_resort_patience_s");
   c = {};
-  c.last_resort_stall.min_new_cells = 0;
-  expectKey(c, "last_resort_min_new_cells");
+  c.last_resort_stall.min_gain_fraction = 0.0;
+  expectKey(c, "last_resort_min_gain_fraction");
 }
 
 TEST(ExplorationManager, MalformedPriorIsRefused) {

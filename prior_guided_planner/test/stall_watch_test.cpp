@@ -11,20 +11,21 @@
 namespace efs::planner {
 namespace {
 
-StallConfig patience(double patience_s, int min_new_cells) {
+StallConfig patience(double patience_s, double min_gain_fraction) {
   StallConfig c;
   c.patience_s = patience_s;
-  c.min_new_cells = min_new_cells;
+  c.min_gain_fraction = min_gain_fraction;
   return c;
 }
 
 TEST(StallWatch, StallsOnlyAfterPatienceWithoutEnoughNewCells) {
-  StallWatch w(patience(60.0, 100));
+  StallWatch w(patience(60.0, 0.02));
   EXPECT_FALSE(w.stalled(0.0));  // nothing recorded yet
   w.record(10.0, 5000);
+  EXPECT_EQ(w.cellsToGain(), 100u);  // 2 % of 5000
   EXPECT_FALSE(w.stalled(69.9));
   EXPECT_TRUE(w.stalled(70.0));
-  // Gains short of min_new_cells, however many, do not count as progress...
+  // Gains short of that, however many, do not count as progress...
   for (int k = 1; k <= 9; ++k) w.record(10.0 + 5.0 * k, 5000 + 10 * k);
   EXPECT_TRUE(w.stalled(70.0));
   EXPECT_EQ(w.cellsSinceLastGain(), 90u);
@@ -33,12 +34,13 @@ TEST(StallWatch, StallsOnlyAfterPatienceWithoutEnoughNewCells) {
   ASSERT_TRUE(w.lastGainTime_s());
   EXPECT_EQ(*w.lastGainTime_s(), 80.0);
   EXPECT_EQ(w.cellsSinceLastGain(), 0u);
+  EXPECT_EQ(w.cellsToGain(), 102u);  // the share of the new baseline
   EXPECT_FALSE(w.stalled(139.9));
   EXPECT_TRUE(w.stalled(140.0));
 }
 
 TEST(StallWatch, ACountBelowTheBaselineGainsNothing) {
-  StallWatch w(patience(30.0, 100));
+  StallWatch w(patience(30.0, 0.1));
   w.record(0.0, 1000);
   w.record(5.0, 900);
   EXPECT_EQ(w.cellsSinceLastGain(), 0u);
@@ -51,9 +53,18 @@ TEST(StallWatch, ACountBelowTheBaselineGainsNothing) {
 }
 
 TEST(StallWatch, ZeroPatienceNeverStalls) {
-  StallWatch w(patience(0.0, 100));
+  StallWatch w(patience(0.0, 0.1));
   w.record(0.0, 10);
   EXPECT_FALSE(w.stalled(1.0e6));
+}
+
+// Before anything is seen well, any one new cell is progress.
+TEST(StallWatch, AnEmptyMapNeedsOneCell) {
+  StallWatch w(patience(10.0, 0.5));
+  w.record(0.0, 0);
+  EXPECT_EQ(w.cellsToGain(), 1u);
+  w.record(5.0, 1);
+  EXPECT_EQ(*w.lastGainTime_s(), 5.0);
 }
 
 TEST(StallWatch, AbsurdSettingsAreRefusedNamingTheKey) {
@@ -65,12 +76,13 @@ TEST(StallWatch, AbsurdSettingsAreRefusedNamingTheKey) {
     }
     return std::string("accepted");
   };
-  EXPECT_NE(key(patience(-1.0, 100)).find("last_resort_patience_s"), std::string::npos);
+  EXPECT_NE(key(patience(-1.0, 0.1)).find("last_resort_patience_s"), std::string::npos);
   EXPECT_NE(
-      key(patience(std::numeric_limits<double>::quiet_NaN(), 100)).find("last_resort_patience_s"),
+      key(patience(std::numeric_limits<double>::quiet_NaN(), 0.1)).find("last_resort_patience_s"),
       std::string::npos);
-  EXPECT_NE(key(patience(60.0, 0)).find("last_resort_min_new_cells"), std::string::npos);
-  EXPECT_EQ(key(patience(60.0, 1)), "accepted");
+  EXPECT_NE(key(patience(60.0, 0.0)).find("last_resort_min_gain_fraction"), std::string::npos);
+  EXPECT_NE(key(patience(60.0, 1.5)).find("last_resort_min_gain_fraction"), std::string::npos);
+  EXPECT_EQ(key(patience(60.0, 1.0)), "accepted");
 }
 
 }  // namespace

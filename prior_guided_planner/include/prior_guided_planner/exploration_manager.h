@@ -91,10 +91,10 @@ struct ExplorationManagerConfig {
   /// 89 % coverage, that room never entered.
   ReachedOpeningsConfig reached_openings;
   /// A plan that finds nothing but its last resorts (reached openings that moved on, pockets
-  /// the sketch vouches for) finds no viewpoint instead once the map has gained fewer than
-  /// last_resort_min_new_cells well-observed surface cells in the last
-  /// last_resort_patience_s (stall_watch.h), and the exploration ends as when none
-  /// remains. Viewpoints set aside and retried early are not last resorts.
+  /// the sketch vouches for) finds no viewpoint instead once the well-observed surface cells
+  /// have not grown by last_resort_min_gain_fraction in the last last_resort_patience_s
+  /// (stall_watch.h), and the exploration ends as when none remains. Viewpoints set aside and
+  /// retried early are not last resorts.
   StallConfig last_resort_stall;
   /// Plan at most this often [s] unless the target is reached, gone, or hypotheses changed.
   double replan_period_s = 1.0;

@@ -76,7 +76,7 @@ PriorGuidedPlannerNodeConfig loadPriorGuidedPlannerConfig(const ros::NodeHandle&
   p.get("reached_opening_moved_m", e.reached_openings.moved_m);
   p.get("opening_max_visits", e.reached_openings.max_visits);
   p.get("last_resort_patience_s", e.last_resort_stall.patience_s);
-  p.get("last_resort_min_new_cells", e.last_resort_stall.min_new_cells);
+  p.get("last_resort_min_gain_fraction", e.last_resort_stall.min_gain_fraction);
   p.get("max_goal_distance_m", e.max_goal_distance_m);
   p.get("max_goal_climb_m", e.max_goal_climb_m);
   p.get("tour_lookahead_m", e.tour_lookahead_m);
