@@ -44,6 +44,54 @@ bool segmentTraversable(const cv::Mat1b& region, const SketchFrame& frame,
   return true;
 }
 
+namespace {
+
+// Union-find over roadmap nodes.
+int findRoot(std::vector<int>& parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+// Nodes whose k nearest neighbours all lie behind a corner, or a pocket of the region reached
+// through a pinch that no edge to the k nearest crosses, leave the roadmap in pieces inside one
+// region component: a guidepoint there was unreachable from every other (seen in ed21's sketch 2
+// once the inside of free-standing loops stopped being traversable, which moved the samples).
+// Each piece is joined to the largest through the first of its nodes that sees one of its kJoin
+// nearest nodes there. A pocket behind a pinch no straight edge crosses stays apart (one
+// guidepoint of the Pittsburgh mine's precise drawing).
+void joinStrandedNodes(const cv::Mat1b& region, const SketchFrame& frame, Prm* prm) {
+  constexpr size_t kJoin = 16;
+  const int n = static_cast<int>(prm->nodes_m.size());
+  std::vector<int> parent(n);
+  for (int i = 0; i < n; ++i) parent[i] = i;
+  for (const PrmEdge& e : prm->edges) parent[findRoot(parent, e.a)] = findRoot(parent, e.b);
+  std::vector<int> size(n, 0);
+  for (int i = 0; i < n; ++i) ++size[findRoot(parent, i)];
+  const int largest = static_cast<int>(std::max_element(size.begin(), size.end()) - size.begin());
+  if (size[largest] == n) return;
+  std::vector<int> main_ids;
+  PointKdTree2d::Points main_pts;
+  for (int i = 0; i < n; ++i) {
+    if (findRoot(parent, i) != largest) continue;
+    main_ids.push_back(i);
+    main_pts.push_back(prm->nodes_m[i]);
+  }
+  const PointKdTree2d main_tree(std::move(main_pts));
+  for (int i = 0; i < n; ++i) {
+    if (findRoot(parent, i) == findRoot(parent, largest)) continue;
+    for (const auto& [k, d2] : main_tree.knn(prm->nodes_m[i], kJoin)) {
+      const int j = main_ids[k];
+      if (d2 <= 0.0 || !segmentTraversable(region, frame, prm->nodes_m[i], prm->nodes_m[j]))
+        continue;
+      prm->edges.push_back({std::min(i, j), std::max(i, j), std::sqrt(d2)});
+      parent[findRoot(parent, i)] = findRoot(parent, largest);
+      break;
+    }
+  }
+}
+
+}  // namespace
+
 Prm buildPrm(const cv::Mat1b& region, const SketchFrame& frame, const PrmConfig& config,
              const std::vector<Eigen::Vector2d>& seed_nodes_m) {
   config.validate();
@@ -83,6 +131,7 @@ Prm buildPrm(const cv::Mat1b& region, const SketchFrame& frame, const PrmConfig&
       prm.edges.push_back({a, b, std::sqrt(d2)});
     }
   }
+  joinStrandedNodes(region, frame, &prm);
   return prm;
 }
 

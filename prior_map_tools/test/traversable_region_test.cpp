@@ -149,6 +149,34 @@ TEST(TraversableRegion, HollowPillarsDoNotMakeAClosetSpanTheDrawing) {
   EXPECT_EQ(open.mask(100, 100), 255) << "the hall north-west of the core";
 }
 
+// A hall whose outline is drawn closed, with a 4 x 4 m pillar drawn as a closed square standing
+// free in it, and a room whose walls join the outline, entered through a door. The pillar's
+// inside is rock: no stroke joins its loop to the outline. The room is a place to be.
+TEST(TraversableRegion, TheInsideOfAFreeStandingLoopIsSolid) {
+  cv::Mat1b hall(300, 400, uint8_t(255));
+  cv::rectangle(hall, cv::Rect(20, 20, 360, 260), cv::Scalar(0), 2);
+  cv::rectangle(hall, cv::Rect(100, 100, 40, 40), cv::Scalar(0), 2);  // the pillar
+  cv::line(hall, {260, 20}, {260, 120}, cv::Scalar(0), 2);            // the room's west wall
+  cv::line(hall, {260, 120}, {300, 120}, cv::Scalar(0), 2);           // its south wall,
+  cv::line(hall, {330, 120}, {380, 120}, cv::Scalar(0), 2);           // a 3 m door in it
+  SketchLoadConfig lc;
+  const LoadedSketch sketch = sketchFromImage(hall, lc, "pillar_hall.png");
+  const TraversableRegion r = extractTraversable(sketch, {});
+  EXPECT_FALSE(r.outer_outline_open);
+  EXPECT_EQ(r.numComponents(), 1);
+  EXPECT_EQ(r.mask(120, 120), 0) << "inside the pillar";
+  EXPECT_EQ(r.mask(60, 320), 255) << "in the room";
+  EXPECT_EQ(r.mask(200, 200), 255) << "in the hall";
+  EXPECT_EQ(r.components(60, 320), r.components(200, 200));
+  // Kept, the pillar's inside is a region of its own, as it was before islands were dropped.
+  TraversableConfig keep;
+  keep.drop_island_interiors = false;
+  const TraversableRegion kept = extractTraversable(sketch, keep);
+  EXPECT_EQ(kept.numComponents(), 2);
+  EXPECT_EQ(kept.mask(120, 120), 255);
+  EXPECT_NE(kept.components(120, 120), kept.components(200, 200));
+}
+
 TEST(TraversableRegion, OccupancyGridUnknownIsNotTraversable) {
   cv::Mat1b grid(40, 60, uint8_t(205));
   grid(cv::Rect(10, 10, 40, 20)).setTo(254);

@@ -32,6 +32,8 @@ sketch: a drawing (PNG/JPG/PGM, grey, colour or alpha) or a map_server YAML occu
   --min-region-area M2   smaller free components are dropped          (default 2.0)
   --min-enclosed-span F  an enclosed area spanning less than this      (default 0.5)
                          fraction of the strokes is a closet in an open outline
+  --island-interiors X   drop | keep: the inside of a closed loop no  (default drop)
+                         stroke joins to the outline (a pillar) is solid
   --spur-length M        skeleton spurs shorter than this are pruned  (default 2.0)
   --max-island M         islands (pillars) this small are filled for  (default 4.0)
                          the skeleton; 0 = off
@@ -48,12 +50,12 @@ sketch: a drawing (PNG/JPG/PGM, grey, colour or alpha) or a map_server YAML occu
 int main(int argc, char** argv) {
   using namespace efs::prior_map;
   try {
-    const efs::CliArgs args(
-        argc, argv,
-        {"sketch", "scale-guess", "mapping-range", "out", "overlay", "summary", "kind",
-         "robot-radius", "max-outer-gap", "min-region-area", "min-enclosed-span", "spur-length",
-         "max-island", "region-cover", "interval-factor", "prm-spacing", "prm-k", "seed"},
-        {"help"});
+    const efs::CliArgs args(argc, argv,
+                            {"sketch", "scale-guess", "mapping-range", "out", "overlay", "summary",
+                             "kind", "robot-radius", "max-outer-gap", "min-region-area",
+                             "min-enclosed-span", "spur-length", "max-island", "region-cover",
+                             "interval-factor", "prm-spacing", "prm-k", "seed", "island-interiors"},
+                            {"help"});
     if (args.flag("help") || argc == 1) {
       std::cout << kUsage;
       return argc == 1 ? 2 : 0;
@@ -81,6 +83,10 @@ int main(int argc, char** argv) {
         args.number("min-region-area", config.traversable.min_region_area_m2);
     config.traversable.min_enclosed_span_fraction =
         args.number("min-enclosed-span", config.traversable.min_enclosed_span_fraction);
+    const std::string islands = args.str("island-interiors", "drop");
+    if (islands != "drop" && islands != "keep")
+      throw efs::CliError("option --island-interiors must be drop or keep, got '" + islands + "'");
+    config.traversable.drop_island_interiors = islands == "drop";
     config.skeleton.spur_prune_length_m =
         args.number("spur-length", config.skeleton.spur_prune_length_m);
     config.skeleton.max_island_extent_m =

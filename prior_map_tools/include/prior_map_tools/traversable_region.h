@@ -29,6 +29,11 @@ struct TraversableConfig {
   /// not the building: the ink's convex hull is the footprint then. A building's or a cave's own
   /// outline spans its strokes.
   double min_enclosed_span_fraction = 0.5;
+  /// The inside of a closed loop that no stroke joins to the outline (a pillar drawn as a
+  /// square, a service core) is solid, not traversable: rooms and corridors border the outline
+  /// or walls joined to it. false: every enclosed pixel counts (min_region_area_m2 alone drops
+  /// the small ones).
+  bool drop_island_interiors = true;
 
   void validate() const;
 };
