@@ -840,7 +840,7 @@ TEST(ExplorationManager, TheLastResortsAreGivenUpOnceTheMapStoppedGaining) {
   // No gain large enough since the first plan, and the patience is over: given up.
   StallConfig impatient;
   impatient.patience_s = 1.0;
-  impatient.min_gain_fraction = 1.0;  // twice the map in a second
+  impatient.min_gain_fraction = 1.0;  // the map doubling: not in this flight
   const SlitFlight ended = flyTheSlitHall(impatient);
   ASSERT_EQ(ended.end, ExplorationState::kFinished) << ended.messages.back();
   EXPECT_FALSE(anyMessageHas(ended, "moved on looked at again"));

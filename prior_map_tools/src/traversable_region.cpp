@@ -68,8 +68,8 @@ cv::Rect enclosedSpan(const cv::Mat1b& enclosed, double min_area_px) {
 // of a closed loop standing free in the drawing (a pillar of a room-and-pillar mine, a service
 // core), rock or a solid block, not a place to be. The outline's strokes are the ink components
 // that touch `exterior`; the rooms and corridors of a floor plan border them, or border walls
-// joined to them. Seen: the Pittsburgh mine's precise drawing gave 124 components, about 67 of
-// its 445 guidepoints in pillars, which the guided flight toured and searched for at its end.
+// joined to them. Seen: the Pittsburgh mine's precise drawing gave 124 components and put 147 of
+// its 445 guidepoints in pillars, in the guided flight's sequences.
 cv::Mat1b islandInteriors(const cv::Mat1b& walls, const cv::Mat1b& exterior,
                           const cv::Mat1b& interior_free) {
   const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3));
