@@ -378,11 +378,13 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
     }
   }
   // The last resorts are looked at while looking pays (last_resort_stall).
-  stall_.record(time_s, observation_.numWellObserved());
+  const size_t well_observed = observation_.numWellObserved();
+  stall_.record(time_s, well_observed);
   stall_note_.clear();
   if (last_resorts && !vps.empty() && stall_.stalled(time_s)) {
     std::ostringstream os;
-    os << " (" << vps.size() << " last resort(s) given up: " << stall_.cellsSinceLastGain()
+    os << " (" << vps.size()
+       << " last resort(s) given up: " << stall_.cellsSinceLastGain(well_observed)
        << " well-observed cells gained in the last "
        << std::round(time_s - *stall_.lastGainTime_s()) << " s, " << stall_.cellsToGain()
        << " wanted)";

@@ -132,7 +132,6 @@ PlanningResult HierarchicalPlanner::plan(const PlanningInput& in) {
     if (!res.used_hypotheses.empty()) {
       res.groups = groupViewpoints(res.attachments, nv);
       res.selection = selectPriorSequence(res.groups, res.sequences, robot_len);
-      rememberFirstGuidepoints(in, res);
       rememberSequences(in, res);
       if (res.selection.group >= 0 && res.selection.hypothesis >= 0) {
         const int hk = res.selection.hypothesis;
@@ -183,22 +182,16 @@ std::vector<int> plannedSequence(const PlanningResult& res, size_t k) {
 }
 }  // namespace
 
-void HierarchicalPlanner::rememberFirstGuidepoints(const PlanningInput& in,
-                                                   const PlanningResult& res) {
-  if (!(config_.keep_first_guidepoint_fraction > 0.0)) return;
-  last_first_guidepoint_.clear();
-  for (size_t k = 0; k < res.sequences.size(); ++k) {
-    const std::vector<int> seq = plannedSequence(res, k);
-    if (!seq.empty())
-      last_first_guidepoint_[in.hypotheses[res.used_hypotheses[k]].id] = seq.front();
-  }
-}
-
 void HierarchicalPlanner::rememberSequences(const PlanningInput& in, const PlanningResult& res) {
-  if (!config_.warm_start_sequences) return;
+  const bool keep_first = config_.keep_first_guidepoint_fraction > 0.0;
+  if (!keep_first && !config_.warm_start_sequences) return;
+  if (keep_first) last_first_guidepoint_.clear();
   for (size_t k = 0; k < res.sequences.size(); ++k) {
     std::vector<int> seq = plannedSequence(res, k);
-    if (!seq.empty()) last_sequence_[in.hypotheses[res.used_hypotheses[k]].id] = std::move(seq);
+    if (seq.empty()) continue;
+    const int id = in.hypotheses[res.used_hypotheses[k]].id;
+    if (keep_first) last_first_guidepoint_[id] = seq.front();
+    if (config_.warm_start_sequences) last_sequence_[id] = std::move(seq);
   }
 }
 

@@ -16,7 +16,6 @@ void StallConfig::validate() const {
 StallWatch::StallWatch(StallConfig config) : config_(config) { config_.validate(); }
 
 void StallWatch::record(double time_s, size_t well_observed_cells) {
-  last_cells_ = well_observed_cells;
   if (!base_time_s_ || well_observed_cells >= base_cells_ + cellsToGain()) {
     base_time_s_ = time_s;
     base_cells_ = well_observed_cells;

@@ -78,13 +78,13 @@ void joinStrandedNodes(const cv::Mat1b& region, const SketchFrame& frame, Prm* p
   }
   const PointKdTree2d main_tree(std::move(main_pts));
   for (int i = 0; i < n; ++i) {
-    if (findRoot(parent, i) == findRoot(parent, largest)) continue;
+    if (findRoot(parent, i) == largest) continue;
     for (const auto& [k, d2] : main_tree.knn(prm->nodes_m[i], kJoin)) {
       const int j = main_ids[k];
       if (d2 <= 0.0 || !segmentTraversable(region, frame, prm->nodes_m[i], prm->nodes_m[j]))
         continue;
       prm->edges.push_back({std::min(i, j), std::max(i, j), std::sqrt(d2)});
-      parent[findRoot(parent, i)] = findRoot(parent, largest);
+      parent[findRoot(parent, i)] = largest;  // the largest piece's root stays its root
       break;
     }
   }

@@ -64,6 +64,21 @@ cv::Rect enclosedSpan(const cv::Mat1b& enclosed, double min_area_px) {
   return span;
 }
 
+// The pixels of `mask` whose 8-connected component has a pixel in `touch`.
+cv::Mat1b componentsTouching(const cv::Mat1b& mask, const cv::Mat1b& touch) {
+  cv::Mat1i labels;
+  const int n = cv::connectedComponents(mask, labels, 8, CV_32S);
+  std::vector<uint8_t> touched(static_cast<size_t>(n), 0);
+  for (int r = 0; r < mask.rows; ++r)
+    for (int c = 0; c < mask.cols; ++c)
+      if (mask(r, c) && touch(r, c)) touched[static_cast<size_t>(labels(r, c))] = 1;
+  cv::Mat1b out = cv::Mat1b::zeros(mask.size());
+  for (int r = 0; r < mask.rows; ++r)
+    for (int c = 0; c < mask.cols; ++c)
+      if (mask(r, c) && touched[static_cast<size_t>(labels(r, c))]) out(r, c) = 255;
+  return out;
+}
+
 // The free pixels of `interior_free` whose component borders no stroke of the outline: the inside
 // of a closed loop standing free in the drawing (a pillar of a room-and-pillar mine, a service
 // core), rock or a solid block, not a place to be. The outline's strokes are the ink components
@@ -73,32 +88,10 @@ cv::Rect enclosedSpan(const cv::Mat1b& enclosed, double min_area_px) {
 cv::Mat1b islandInteriors(const cv::Mat1b& walls, const cv::Mat1b& exterior,
                           const cv::Mat1b& interior_free) {
   const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3));
-  cv::Mat1i ink_labels;
-  const int n_ink = cv::connectedComponents(walls, ink_labels, 8, CV_32S);
-  cv::Mat1b near_exterior;
+  cv::Mat1b near_exterior, near_outline;
   cv::dilate(exterior, near_exterior, kernel);
-  std::vector<uint8_t> outline(n_ink, 0);
-  for (int r = 0; r < walls.rows; ++r)
-    for (int c = 0; c < walls.cols; ++c)
-      if (near_exterior(r, c) && walls(r, c)) outline[ink_labels(r, c)] = 1;
-  cv::Mat1b outline_ink = cv::Mat1b::zeros(walls.size());
-  for (int r = 0; r < walls.rows; ++r)
-    for (int c = 0; c < walls.cols; ++c)
-      if (walls(r, c) && outline[ink_labels(r, c)]) outline_ink(r, c) = 255;
-  cv::Mat1b near_outline;
-  cv::dilate(outline_ink, near_outline, kernel);
-
-  cv::Mat1i free_labels;
-  const int n_free = cv::connectedComponents(interior_free, free_labels, 8, CV_32S);
-  std::vector<uint8_t> borders_outline(n_free, 0);
-  for (int r = 0; r < walls.rows; ++r)
-    for (int c = 0; c < walls.cols; ++c)
-      if (interior_free(r, c) && near_outline(r, c)) borders_outline[free_labels(r, c)] = 1;
-  cv::Mat1b islands = cv::Mat1b::zeros(walls.size());
-  for (int r = 0; r < walls.rows; ++r)
-    for (int c = 0; c < walls.cols; ++c)
-      if (interior_free(r, c) && !borders_outline[free_labels(r, c)]) islands(r, c) = 255;
-  return islands;
+  cv::dilate(componentsTouching(walls, near_exterior), near_outline, kernel);
+  return interior_free & ~componentsTouching(interior_free, near_outline);
 }
 
 }  // namespace

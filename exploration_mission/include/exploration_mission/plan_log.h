@@ -3,8 +3,8 @@
 // A CSV line per planning cycle of the exploration planner: where the robot was, which mode and
 // hypothesis guided, the guidepoint states under it, the target group, the next guidepoint and
 // the FE-TSP's terminal, the goal handed to the local planner, why the cycle ran and what
-// became of the previous target, how many surface cells were well observed by then. What a person reads to see why a flight went where it went
-// (explore_mission --plan-log).
+// became of the previous target, how many surface cells were well observed by then. What a
+// person reads to see why a flight went where it went (explore_mission --plan-log).
 #pragma once
 
 #include <Eigen/Core>

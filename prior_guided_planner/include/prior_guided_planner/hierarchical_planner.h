@@ -137,12 +137,11 @@ class HierarchicalPlanner {
   /// The warm start for this plan's tour (nullptr when off or there is none).
   const std::vector<int>* warmStart() const;
   void rememberTour(const PlanningInput& in, const LocalTour& tour);
-  /// Keeps each hypothesis' guidepoint sequence of this plan (warm_start_sequences).
+  /// Keeps each hypothesis' first guidepoint of this plan (keep_first_guidepoint_fraction) and
+  /// its guidepoint sequence (warm_start_sequences).
   void rememberSequences(const PlanningInput& in, const PlanningResult& res);
   /// The warm start of hypothesis `id`'s MCTS in the problem's node numbers (empty: none).
   std::vector<int> warmSequence(int id, const GuidepointProblem& problem) const;
-  /// Keeps each hypothesis' first guidepoint of this plan (keep_first_guidepoint_fraction).
-  void rememberFirstGuidepoints(const PlanningInput& in, const PlanningResult& res);
   /// in.path_length_m searched only between the tour_searched_viewpoints of `members` nearest
   /// to the robot (and from the robot); tourEdgeEstimate_m for every other pair.
   PathLengthFn boundedLengths(const PlanningInput& in, const std::vector<double>& robot_len,

@@ -43,19 +43,17 @@ class StallWatch {
   bool stalled(double time_s) const;
   /// Since when the count has not grown by the gain [s]; unset before the first record.
   std::optional<double> lastGainTime_s() const;
-  /// Cells gained since then.
-  size_t cellsSinceLastGain() const {
-    return last_cells_ > base_cells_ ? last_cells_ - base_cells_ : 0;
+  /// Cells gained since then, at a count of `well_observed_cells`.
+  size_t cellsSinceLastGain(size_t well_observed_cells) const {
+    return well_observed_cells > base_cells_ ? well_observed_cells - base_cells_ : 0;
   }
   /// The cells the count must gain from the baseline to start the clock again.
   size_t cellsToGain() const;
-  const StallConfig& config() const { return config_; }
 
  private:
   StallConfig config_;
   std::optional<double> base_time_s_;
   size_t base_cells_ = 0;
-  size_t last_cells_ = 0;
 };
 
 }  // namespace efs::planner
