@@ -79,6 +79,67 @@ cv::Mat1b componentsTouching(const cv::Mat1b& mask, const cv::Mat1b& touch) {
   return out;
 }
 
+// The insides of the closed loops of ink that stand free of each other (a pillar drawn as a
+// square), but for the loop enclosing the most: a free component counts as a loop's inside if it
+// borders that one ink component alone and not the page's edge. The largest is the building's
+// own outline (a cave drawn as one loop, a floor plan whose rooms border nothing else).
+// They are no evidence of where the outline runs, and they are solid even where the outline is
+// open, unlike islandInteriors() (below), which needs a closed outline to tell them apart.
+// Seen: the Pittsburgh mine's partial drawing leaves two regions' walls out, so its strokes
+// enclose nothing but the pillars, which span the page; taken for the mine, they put all 156
+// guidepoints and all 6984 registration candidates in rock.
+cv::Mat1b looseLoopInteriors(const cv::Mat1b& walls) {
+  cv::Mat1i ink_labels, free_labels;
+  const int n_ink = cv::connectedComponents(walls, ink_labels, 8, CV_32S);
+  const int n_free = cv::connectedComponents(~walls, free_labels, 4, CV_32S);
+  constexpr int kNone = 0, kSeveral = -1;
+  std::vector<int> border_ink(static_cast<size_t>(n_free), kNone);
+  std::vector<uint8_t> on_edge(static_cast<size_t>(n_free), 0);
+  std::vector<int> area(static_cast<size_t>(n_free), 0);
+  const auto note = [&](int free_label, int r, int c) {
+    if (!walls(r, c)) return;
+    int& ink = border_ink[static_cast<size_t>(free_label)];
+    const int l = ink_labels(r, c);
+    if (ink == kNone)
+      ink = l;
+    else if (ink != l)
+      ink = kSeveral;
+  };
+  for (int r = 0; r < walls.rows; ++r) {
+    for (int c = 0; c < walls.cols; ++c) {
+      if (walls(r, c)) continue;
+      const int f = free_labels(r, c);
+      ++area[static_cast<size_t>(f)];
+      if (r == 0 || c == 0 || r + 1 == walls.rows || c + 1 == walls.cols) {
+        on_edge[static_cast<size_t>(f)] = 1;
+        continue;
+      }
+      note(f, r - 1, c);
+      note(f, r + 1, c);
+      note(f, r, c - 1);
+      note(f, r, c + 1);
+    }
+  }
+  std::vector<double> enclosed_by(static_cast<size_t>(n_ink), 0.0);
+  for (int f = 1; f < n_free; ++f) {
+    const int ink = border_ink[static_cast<size_t>(f)];
+    if (!on_edge[static_cast<size_t>(f)] && ink > 0)
+      enclosed_by[static_cast<size_t>(ink)] += area[static_cast<size_t>(f)];
+  }
+  const int outline = static_cast<int>(std::max_element(enclosed_by.begin(), enclosed_by.end()) -
+                                       enclosed_by.begin());
+  std::vector<uint8_t> loose(static_cast<size_t>(n_free), 0);
+  for (int f = 1; f < n_free; ++f) {
+    const int ink = border_ink[static_cast<size_t>(f)];
+    loose[static_cast<size_t>(f)] = !on_edge[static_cast<size_t>(f)] && ink > 0 && ink != outline;
+  }
+  cv::Mat1b out = cv::Mat1b::zeros(walls.size());
+  for (int r = 0; r < walls.rows; ++r)
+    for (int c = 0; c < walls.cols; ++c)
+      if (!walls(r, c) && loose[static_cast<size_t>(free_labels(r, c))]) out(r, c) = 255;
+  return out;
+}
+
 // The free pixels of `interior_free` whose component borders no stroke of the outline: the inside
 // of a closed loop standing free in the drawing (a pillar of a room-and-pillar mine, a service
 // core), rock or a solid block, not a place to be. The outline's strokes are the ink components
@@ -227,14 +288,17 @@ TraversableRegion extractTraversable(const LoadedSketch& sketch, const Traversab
       while (chosen + 1 < radii.size() && area[chosen + 1] > 1.25 * area[chosen]) ++chosen;
     }
     // The span of what is enclosed, without what the closing itself filled in (it rounds every
-    // corner of the strokes, enclosed or not). The chosen radius' closing is done again rather
-    // than every radius' kept from the loop above: one closing against a page-sized mask each.
+    // corner of the strokes, enclosed or not) nor the insides of loose loops. The chosen radius'
+    // closing is done again rather than every radius' kept from the loop above: one closing against
+    // a page-sized mask each.
+    const cv::Mat1b loose_loops = looseLoopInteriors(walls);
     const auto diagonal = [](const cv::Rect& r) { return std::hypot(r.width, r.height); };
     const bool closet_only =
         best > 0.0 &&
-        diagonal(enclosedSpan(
-            footprints[chosen] & ~closeWalls(padded_walls, dist_to_wall, radii[chosen])(page),
-            config.min_region_area_m2 / (m_per_px * m_per_px))) <
+        diagonal(enclosedSpan(footprints[chosen] &
+                                  ~closeWalls(padded_walls, dist_to_wall, radii[chosen])(page) &
+                                  ~loose_loops,
+                              config.min_region_area_m2 / (m_per_px * m_per_px))) <
             config.min_enclosed_span_fraction * diagonal(cv::boundingRect(ink));
     if (best <= 0.0 || closet_only) {
       if (cv::countNonZero(hull_footprint & ~walls) == 0) {
@@ -251,8 +315,14 @@ TraversableRegion extractTraversable(const LoadedSketch& sketch, const Traversab
       fallback_footprint = hull_footprint;
     }
     interior_free = out.footprint & ~walls;
-    if (config.drop_island_interiors)
-      interior_free &= ~islandInteriors(walls, ~out.footprint, interior_free);
+    if (config.drop_island_interiors) {
+      // The hull's edge runs through the pillars at the rim of an open drawing, and
+      // islandInteriors() takes their strokes for the outline's: loose loops are solid there too.
+      // A closed outline keeps them: a loop beside it, not in it, is a second building.
+      cv::Mat1b solid = islandInteriors(walls, ~out.footprint, interior_free);
+      if (out.outer_outline_open) solid |= loose_loops;
+      interior_free &= ~solid;
+    }
   }
   return regionWithClearance(name, m_per_px, config, std::move(out), walls, interior_free,
                              fallback_footprint);

@@ -149,6 +149,36 @@ TEST(TraversableRegion, HollowPillarsDoNotMakeAClosetSpanTheDrawing) {
   EXPECT_EQ(open.mask(100, 100), 255) << "the hall north-west of the core";
 }
 
+TEST(TraversableRegion, PillarsSpanningAnOpenOutlineAreNotTheBuilding) {
+  // A room-and-pillar mine drawn without its south and east walls: its 4 x 4 m pillars, each a
+  // closed square standing free 7 m apart (beyond max_outer_gap_m), are all the drawing encloses,
+  // and they span the hall. Each is larger than min_region_area_m2, so the span rule alone would
+  // take them for the mine. The south-east one stands on the edge of the strokes' convex hull.
+  cv::Mat1b partial(320, 420, uint8_t(255));
+  cv::line(partial, {10, 10}, {410, 10}, cv::Scalar(0), 2);
+  cv::line(partial, {10, 10}, {10, 310}, cv::Scalar(0), 2);
+  for (int x = 60; x <= 280; x += 110)
+    for (int y = 60; y <= 170; y += 110)
+      cv::rectangle(partial, cv::Rect(x, y, 40, 40), cv::Scalar(0), 2);
+  SketchLoadConfig lc;
+  const TraversableRegion open = extractTraversable(sketchFromImage(partial, lc, "mine.png"), {});
+  EXPECT_TRUE(open.outer_outline_open);
+  EXPECT_EQ(open.numComponents(), 1);
+  EXPECT_EQ(open.mask(135, 135), 255) << "the drift between four pillars";
+  EXPECT_EQ(open.mask(35, 200), 255) << "along the north wall";
+  EXPECT_EQ(open.mask(80, 80), 0) << "inside a pillar";
+  EXPECT_EQ(open.mask(190, 300), 0) << "inside the pillar on the hull's edge";
+  // One loop drawn alone is still a building (a cave drawn as its outline), pillars or not.
+  cv::Mat1b cave(300, 400, uint8_t(255));
+  cv::ellipse(cave, cv::Point(200, 150), cv::Size(170, 120), 0, 0, 360, cv::Scalar(0), 2);
+  cv::rectangle(cave, cv::Rect(180, 130, 40, 40), cv::Scalar(0), 2);
+  const TraversableRegion shut = extractTraversable(sketchFromImage(cave, lc, "cave.png"), {});
+  EXPECT_FALSE(shut.outer_outline_open);
+  EXPECT_EQ(shut.mask(150, 100), 255);
+  EXPECT_EQ(shut.mask(150, 200), 0) << "inside the pillar";
+  EXPECT_EQ(shut.mask(10, 10), 0) << "outside the cave";
+}
+
 // A hall whose outline is drawn closed, with a 4 x 4 m pillar drawn as a closed square standing
 // free in it, and a room whose walls join the outline, entered through a door. The pillar's
 // inside is rock: no stroke joins its loop to the outline. The room is a place to be.
