@@ -14,6 +14,7 @@ namespace efs::prior_map {
 void TraversableConfig::validate() const {
   requireInRange("robot_radius_m", robot_radius_m, 0.0, 10.0);
   requireInRange("max_outer_gap_m", max_outer_gap_m, 0.0, 100.0);
+  requireInRange("open_outline_gap_m", open_outline_gap_m, 0.0, 1000.0);
   requireInRange("min_region_area_m2", min_region_area_m2, 0.0, 1e6);
   requireInRange("min_enclosed_span_fraction", min_enclosed_span_fraction, 0.0, 1.0);
 }
@@ -76,6 +77,42 @@ cv::Mat1b componentsTouching(const cv::Mat1b& mask, const cv::Mat1b& touch) {
   for (int r = 0; r < mask.rows; ++r)
     for (int c = 0; c < mask.cols; ++c)
       if (mask(r, c) && touched[static_cast<size_t>(labels(r, c))]) out(r, c) = 255;
+  return out;
+}
+
+// The triangles of the Delaunay triangulation of the strokes (one point per `step_px` square of
+// ink) whose edges are all shorter than `max_edge_px`, filled: the strokes' concave hull at that
+// scale, with straight chords across the gaps (a closing by a disc would bite a round notch out
+// of a hall whose fourth wall is missing).
+cv::Mat1b shortTriangles(const cv::Mat1b& walls, double max_edge_px, int step_px) {
+  cv::Mat1b out = cv::Mat1b::zeros(walls.size());
+  cv::Subdiv2D subdiv(cv::Rect(0, 0, walls.cols, walls.rows));
+  int inserted = 0;
+  for (int r0 = 0; r0 < walls.rows; r0 += step_px) {
+    for (int c0 = 0; c0 < walls.cols; c0 += step_px) {
+      const cv::Rect cell(c0, r0, std::min(step_px, walls.cols - c0),
+                          std::min(step_px, walls.rows - r0));
+      cv::Point at;
+      double top = 0.0;
+      cv::minMaxLoc(walls(cell), nullptr, &top, nullptr, &at);
+      if (top <= 0.0) continue;
+      subdiv.insert(cv::Point2f(static_cast<float>(c0 + at.x), static_cast<float>(r0 + at.y)));
+      ++inserted;
+    }
+  }
+  if (inserted < 3) return out;
+  std::vector<cv::Vec6f> triangles;
+  subdiv.getTriangleList(triangles);
+  const double max_sq = max_edge_px * max_edge_px;
+  for (const cv::Vec6f& t : triangles) {
+    const cv::Point2f a(t[0], t[1]), b(t[2], t[3]), c(t[4], t[5]);
+    const auto sq = [](const cv::Point2f& d) { return double(d.x) * d.x + double(d.y) * d.y; };
+    if (sq(a - b) > max_sq || sq(b - c) > max_sq || sq(c - a) > max_sq) continue;
+    const cv::Point corners[3] = {cv::Point(cvRound(a.x), cvRound(a.y)),
+                                  cv::Point(cvRound(b.x), cvRound(b.y)),
+                                  cv::Point(cvRound(c.x), cvRound(c.y))};
+    cv::fillConvexPoly(out, corners, 3, cv::Scalar(255));
+  }
   return out;
 }
 
@@ -307,7 +344,17 @@ TraversableRegion extractTraversable(const LoadedSketch& sketch, const Traversab
                             "wider than max_outer_gap_m = " +
                             std::to_string(config.max_outer_gap_m) + " m at the scale guess?)");
       }
+      // The hull alone spans the empty page between a drawing's arms (the Pittsburgh mine's
+      // partial drawing: 555 guidepoints, 410 of them still unexplored in rock at 400 s). Strokes
+      // nearer each other than open_outline_gap_m bound one place; what they close is the inside.
       out.footprint = hull_footprint;
+      if (config.open_outline_gap_m > 0.0) {
+        const cv::Mat1b near_strokes =
+            ~exteriorOf(walls | shortTriangles(walls, config.open_outline_gap_m / m_per_px,
+                                               std::max(1, static_cast<int>(0.5 / m_per_px)))) &
+            hull_footprint;
+        if (cv::countNonZero(near_strokes & ~walls) > 0) out.footprint = near_strokes;
+      }
       out.outer_outline_open = true;
     } else {
       out.outer_gap_closing_px = radii[chosen];

@@ -179,6 +179,32 @@ TEST(TraversableRegion, PillarsSpanningAnOpenOutlineAreNotTheBuilding) {
   EXPECT_EQ(shut.mask(10, 10), 0) << "outside the cave";
 }
 
+TEST(TraversableRegion, AnOpenOutlineDoesNotSpanTheEmptyPageBetweenItsArms) {
+  // Two 6 m drifts meeting in an L (80 x 60 m page), both ends left open: nothing is enclosed.
+  // The strokes' convex hull is the whole triangle, with 40 x 40 m of rock inside the L that the
+  // drawing never claims; strokes 40 m apart and more do not bound one place.
+  cv::Mat1b l_shape(600, 800, uint8_t(255));
+  cv::line(l_shape, {20, 20}, {20, 580}, cv::Scalar(0), 2);  // outer walls
+  cv::line(l_shape, {20, 580}, {780, 580}, cv::Scalar(0), 2);
+  cv::line(l_shape, {80, 20}, {80, 520}, cv::Scalar(0), 2);  // inner walls
+  cv::line(l_shape, {80, 520}, {780, 520}, cv::Scalar(0), 2);
+  SketchLoadConfig lc;
+  const LoadedSketch sketch = sketchFromImage(l_shape, lc, "l_shape.png");
+  TraversableConfig near;
+  near.open_outline_gap_m = 40.0;
+  const TraversableRegion r = extractTraversable(sketch, near);
+  EXPECT_TRUE(r.outer_outline_open);
+  EXPECT_EQ(r.mask(300, 50), 255) << "in the north-south drift";
+  EXPECT_EQ(r.mask(550, 400), 255) << "in the east-west drift";
+  EXPECT_EQ(r.mask(300, 300), 0) << "the rock inside the L";
+  EXPECT_EQ(r.mask(200, 100), 0) << "beside the drift, in the rock";
+  const TraversableRegion whole = extractTraversable(sketch, {});
+  EXPECT_EQ(whole.mask(300, 300), 255) << "the hull takes the rock for the inside";
+  TraversableConfig absurd;
+  absurd.open_outline_gap_m = -1.0;
+  EXPECT_THROW(absurd.validate(), ConfigError);
+}
+
 // A hall whose outline is drawn closed, with a 4 x 4 m pillar drawn as a closed square standing
 // free in it, and a room whose walls join the outline, entered through a door. The pillar's
 // inside is rock: no stroke joins its loop to the outline. The room is a place to be.

@@ -32,6 +32,8 @@ sketch: a drawing (PNG/JPG/PGM, grey, colour or alpha) or a map_server YAML occu
   --min-region-area M2   smaller free components are dropped          (default 2.0)
   --min-enclosed-span F  an enclosed area spanning less than this      (default 0.5)
                          fraction of the strokes is a closet in an open outline
+  --open-outline-gap M   an open outline's inside: what strokes so    (default 0)
+                         near close, within their hull (0: all of it)
   --island-interiors X   drop | keep: the inside of a closed loop no  (default drop)
                          stroke joins to the outline (a pillar) is solid
   --spur-length M        skeleton spurs shorter than this are pruned  (default 2.0)
@@ -51,10 +53,26 @@ int main(int argc, char** argv) {
   using namespace efs::prior_map;
   try {
     const efs::CliArgs args(argc, argv,
-                            {"sketch", "scale-guess", "mapping-range", "out", "overlay", "summary",
-                             "kind", "robot-radius", "max-outer-gap", "min-region-area",
-                             "min-enclosed-span", "spur-length", "max-island", "region-cover",
-                             "interval-factor", "prm-spacing", "prm-k", "seed", "island-interiors"},
+                            {"sketch",
+                             "scale-guess",
+                             "mapping-range",
+                             "out",
+                             "overlay",
+                             "summary",
+                             "kind",
+                             "robot-radius",
+                             "max-outer-gap",
+                             "min-region-area",
+                             "min-enclosed-span",
+                             "spur-length",
+                             "max-island",
+                             "region-cover",
+                             "interval-factor",
+                             "prm-spacing",
+                             "prm-k",
+                             "seed",
+                             "island-interiors",
+                             "open-outline-gap"},
                             {"help"});
     if (args.flag("help") || argc == 1) {
       std::cout << kUsage;
@@ -83,6 +101,8 @@ int main(int argc, char** argv) {
         args.number("min-region-area", config.traversable.min_region_area_m2);
     config.traversable.min_enclosed_span_fraction =
         args.number("min-enclosed-span", config.traversable.min_enclosed_span_fraction);
+    config.traversable.open_outline_gap_m =
+        args.number("open-outline-gap", config.traversable.open_outline_gap_m);
     const std::string islands = args.str("island-interiors", "drop");
     if (islands != "drop" && islands != "keep")
       throw efs::CliError("option --island-interiors must be drop or keep, got '" + islands + "'");

@@ -26,9 +26,15 @@ struct TraversableConfig {
   double min_region_area_m2 = 2.0;
   /// An enclosed area whose bounding box spans less than this fraction of the ink's (diagonals)
   /// is a closet or a service core inside an outline the drawing left open (a partial sketch),
-  /// not the building: the ink's convex hull is the footprint then. A building's or a cave's own
-  /// outline spans its strokes.
+  /// not the building: the footprint is then found as open_outline_gap_m says. A building's or a
+  /// cave's own outline spans its strokes.
   double min_enclosed_span_fraction = 0.5;
+  /// Where the outline is open, the inside is what the strokes enclose once gaps up to this
+  /// wide are closed (the drifts between a mine's pillars, a wing drawn without its outer wall),
+  /// within their convex hull; 0: the whole convex hull [m, in the sketch's guessed scale].
+  /// Off by default: the hull spans the empty page between a mine drawing's arms, but 40 m cut
+  /// the paper simple cave's partial drawing in two where a tunnel of it was left out.
+  double open_outline_gap_m = 0.0;
   /// The inside of a closed loop that no stroke joins to the outline (a pillar drawn as a
   /// square, a service core) is solid, not traversable: rooms and corridors border the outline
   /// or walls joined to it. false: every enclosed pixel counts (min_region_area_m2 alone drops
@@ -45,7 +51,7 @@ struct TraversableRegion {
   std::vector<double> component_area_m2;  ///< index i holds label i + 1, largest first
   int outer_gap_closing_px = 0;           ///< radius used to seal the outer wall (drawings)
   /// The drawing's outline encloses no usable region, or only one spanning a small part of the
-  /// strokes (a partial sketch): the footprint is the convex hull of the ink instead.
+  /// strokes (a partial sketch): the footprint is what the strokes close (open_outline_gap_m).
   bool outer_outline_open = false;
   double area_m2 = 0.0;
 

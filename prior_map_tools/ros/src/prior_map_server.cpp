@@ -43,6 +43,7 @@ PriorMapServerConfig loadPriorMapServerConfig(const ros::NodeHandle& private_nh)
   p.get("max_outer_gap_m", b.traversable.max_outer_gap_m);
   p.get("min_region_area_m2", b.traversable.min_region_area_m2);
   p.get("min_enclosed_span_fraction", b.traversable.min_enclosed_span_fraction);
+  p.get("open_outline_gap_m", b.traversable.open_outline_gap_m);
   p.get("drop_island_interiors", b.traversable.drop_island_interiors);
   p.get("spur_prune_length_m", b.skeleton.spur_prune_length_m);
   p.get("max_island_extent_m", b.skeleton.max_island_extent_m);
