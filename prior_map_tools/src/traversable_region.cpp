@@ -345,13 +345,16 @@ TraversableRegion extractTraversable(const LoadedSketch& sketch, const Traversab
                             std::to_string(config.max_outer_gap_m) + " m at the scale guess?)");
       }
       // The hull alone spans the empty page between a drawing's arms (the Pittsburgh mine's
-      // partial drawing: 555 guidepoints, 410 of them still unexplored in rock at 400 s). Strokes
-      // nearer each other than open_outline_gap_m bound one place; what they close is the inside.
+      // partial drawing: 555 guidepoints, 410 still unexplored at 409 s, most of them in rock).
+      // Strokes nearer each other than open_outline_gap_m bound one place; what they close is the
+      // inside. One triangulation point per half metre of ink is plenty at that scale.
       out.footprint = hull_footprint;
       if (config.open_outline_gap_m > 0.0) {
+        constexpr double kPointSpacingM = 0.5;
         const cv::Mat1b near_strokes =
-            ~exteriorOf(walls | shortTriangles(walls, config.open_outline_gap_m / m_per_px,
-                                               std::max(1, static_cast<int>(0.5 / m_per_px)))) &
+            ~exteriorOf(walls |
+                        shortTriangles(walls, config.open_outline_gap_m / m_per_px,
+                                       std::max(1, static_cast<int>(kPointSpacingM / m_per_px)))) &
             hull_footprint;
         if (cv::countNonZero(near_strokes & ~walls) > 0) out.footprint = near_strokes;
       }

@@ -32,8 +32,9 @@ struct TraversableConfig {
   /// Where the outline is open, the inside is what the strokes enclose once gaps up to this
   /// wide are closed (the drifts between a mine's pillars, a wing drawn without its outer wall),
   /// within their convex hull; 0: the whole convex hull [m, in the sketch's guessed scale].
-  /// Off by default: the hull spans the empty page between a mine drawing's arms, but 40 m cut
-  /// the paper simple cave's partial drawing in two where a tunnel of it was left out.
+  /// Off by default: the hull spans the empty page between a mine drawing's arms, but at 40 m
+  /// the mine's partial flight ended later (time limit, against 1892.5 s), and so did the paper
+  /// simple cave's (462.5 against 427.7 s: the drawing cut in two where a tunnel was left out).
   double open_outline_gap_m = 0.0;
   /// The inside of a closed loop that no stroke joins to the outline (a pillar drawn as a
   /// square, a service core) is solid, not traversable: rooms and corridors border the outline
