@@ -129,9 +129,10 @@ cv::Mat1b looseLoopInteriors(const cv::Mat1b& walls) {
   cv::Mat1i ink_labels, free_labels;
   const int n_ink = cv::connectedComponents(walls, ink_labels, 8, CV_32S);
   const int n_free = cv::connectedComponents(~walls, free_labels, 4, CV_32S);
-  constexpr int kNone = 0, kSeveral = -1;
+  // Per free component: the one ink component it borders, kNone yet, or kNotOneLoop (several,
+  // or the page's edge).
+  constexpr int kNone = 0, kNotOneLoop = -1;
   std::vector<int> border_ink(static_cast<size_t>(n_free), kNone);
-  std::vector<uint8_t> on_edge(static_cast<size_t>(n_free), 0);
   std::vector<int> area(static_cast<size_t>(n_free), 0);
   const auto note = [&](int free_label, int r, int c) {
     if (!walls(r, c)) return;
@@ -140,7 +141,7 @@ cv::Mat1b looseLoopInteriors(const cv::Mat1b& walls) {
     if (ink == kNone)
       ink = l;
     else if (ink != l)
-      ink = kSeveral;
+      ink = kNotOneLoop;
   };
   for (int r = 0; r < walls.rows; ++r) {
     for (int c = 0; c < walls.cols; ++c) {
@@ -148,7 +149,7 @@ cv::Mat1b looseLoopInteriors(const cv::Mat1b& walls) {
       const int f = free_labels(r, c);
       ++area[static_cast<size_t>(f)];
       if (r == 0 || c == 0 || r + 1 == walls.rows || c + 1 == walls.cols) {
-        on_edge[static_cast<size_t>(f)] = 1;
+        border_ink[static_cast<size_t>(f)] = kNotOneLoop;
         continue;
       }
       note(f, r - 1, c);
@@ -160,20 +161,18 @@ cv::Mat1b looseLoopInteriors(const cv::Mat1b& walls) {
   std::vector<double> enclosed_by(static_cast<size_t>(n_ink), 0.0);
   for (int f = 1; f < n_free; ++f) {
     const int ink = border_ink[static_cast<size_t>(f)];
-    if (!on_edge[static_cast<size_t>(f)] && ink > 0)
-      enclosed_by[static_cast<size_t>(ink)] += area[static_cast<size_t>(f)];
+    if (ink > 0) enclosed_by[static_cast<size_t>(ink)] += area[static_cast<size_t>(f)];
   }
   const int outline = static_cast<int>(std::max_element(enclosed_by.begin(), enclosed_by.end()) -
                                        enclosed_by.begin());
-  std::vector<uint8_t> loose(static_cast<size_t>(n_free), 0);
-  for (int f = 1; f < n_free; ++f) {
-    const int ink = border_ink[static_cast<size_t>(f)];
-    loose[static_cast<size_t>(f)] = !on_edge[static_cast<size_t>(f)] && ink > 0 && ink != outline;
-  }
   cv::Mat1b out = cv::Mat1b::zeros(walls.size());
-  for (int r = 0; r < walls.rows; ++r)
-    for (int c = 0; c < walls.cols; ++c)
-      if (!walls(r, c) && loose[static_cast<size_t>(free_labels(r, c))]) out(r, c) = 255;
+  for (int r = 0; r < walls.rows; ++r) {
+    for (int c = 0; c < walls.cols; ++c) {
+      if (walls(r, c)) continue;
+      const int ink = border_ink[static_cast<size_t>(free_labels(r, c))];
+      if (ink > 0 && ink != outline) out(r, c) = 255;
+    }
+  }
   return out;
 }
 
