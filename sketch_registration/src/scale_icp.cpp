@@ -266,8 +266,8 @@ Points2d ScaleIcp::visibleSketch(const Sim2& T, const Eigen::Vector2d& robot_wor
   return hiddenPointRemoval(nearby, q, hpr);
 }
 
-IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
-                             const ObservedIndex* reverse) const {
+IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed, const ObservedIndex* reverse,
+                             double drawing_reach_m) const {
   IcpResult r;
   r.T_world_sketch = T;
   const NearestPointGrid2d& grid = sketch_->nearest();
@@ -278,8 +278,14 @@ IcpResult ScaleIcp::evaluate(const Sim2& T, const Points2d& observed,
   for (const auto& p : observed) {
     const Eigen::Vector2d q = m.toSketch(p);
     if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
+    if (drawing_reach_m > 0.0 &&
+        m.worldDistanceAtLeast(sketch_->clearanceAtLeast(q)) > drawing_reach_m) {
+      continue;
+    }
     const auto nn = grid.nearest(q);
-    d.push_back(m.worldDistance(grid.points()[nn.first], nn.second, p));
+    const double d_m = m.worldDistance(grid.points()[nn.first], nn.second, p);
+    if (drawing_reach_m > 0.0 && d_m > drawing_reach_m) continue;
+    d.push_back(d_m);
   }
   r.num_points = static_cast<int>(d.size());
   if (r.num_points < config_.min_points) return r;

@@ -57,6 +57,9 @@ void SketchRegistrationConfig::validate() const {
   requireInRange("confirm_frames", confirm_frames, 1, 100);
   requireInRange("confidence_tau", confidence_tau, 0.0, 1e3);
   requireInRange("settled_coverage", settled_coverage, 0.0, 1.0);
+  requireInRange("kept_drawing_reach_m", kept_drawing_reach_m, 0.0, 1e3);
+  requireInRange("kept_drawing_reach_min_age_frames", kept_drawing_reach_min_age_frames, 0,
+                 1000000);
   requireInRange("coverage_weight_m", coverage_weight_m, 0.0, 1e3);
   requirePositive("max_speed_mps", max_speed_mps);
   requireInRange("max_icp_inputs", max_icp_inputs, 1, 100000);
@@ -545,8 +548,17 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
       }
     }
     ++diag.icp_runs;
-    if (!judged(r) || !config_.icp.inliersPass(r, bounds.min_inliers) ||
-        !(r.fitness_m <= bounds.max_fitness_m)) {
+    const auto passes = [&](const IcpResult& x) {
+      return judged(x) && config_.icp.inliersPass(x, bounds.min_inliers) &&
+             x.fitness_m <= bounds.max_fitness_m;
+    };
+    if (&bounds == &kept_bounds && config_.kept_drawing_reach_m > 0.0 &&
+        in.age >= config_.kept_drawing_reach_min_age_frames && !passes(r)) {
+      const IcpResult near_drawing =
+          icp_->evaluate(r.T_world_sketch, icp_points, &observed, config_.kept_drawing_reach_m);
+      if (passes(near_drawing)) r = near_drawing;
+    }
+    if (!passes(r)) {
       if (!in.id) rejected_.push_back({in.T, frame_counter_});
       continue;
     }

@@ -215,6 +215,15 @@ TEST(BadInput, ConfigValidationNamesTheKey) {
   c.kept_min_inside_ratio = -0.1;
   expectKey(c, "kept_min_inside_ratio");
   c = {};
+  c.kept_drawing_reach_m = -1.0;
+  expectKey(c, "kept_drawing_reach_m");
+  c = {};
+  c.kept_drawing_reach_m = std::numeric_limits<double>::quiet_NaN();
+  expectKey(c, "kept_drawing_reach_m");
+  c = {};
+  c.kept_drawing_reach_min_age_frames = -1;
+  expectKey(c, "kept_drawing_reach_min_age_frames");
+  c = {};
   c.settled_coverage = 1.5;
   expectKey(c, "settled_coverage");
   c = {};

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <random>
 
@@ -58,14 +59,23 @@ ScenarioRun runScenario(const syn::Scenario& sc, SketchRegistration& reg, int ma
   return run;
 }
 
+/// A partial sketch with a hole: the walls and candidate locations inside the box [lo, hi]
+/// (sketch frame) are left out, while the drawing around it keeps the sketch's extent.
+void leaveOut(syn::Scenario& sc, const Vector2d& lo, const Vector2d& hi) {
+  auto inside = [&](const Vector2d& p) {
+    return (p.array() > lo.array()).all() && (p.array() < hi.array()).all();
+  };
+  sc.sketch_points_m.erase(
+      std::remove_if(sc.sketch_points_m.begin(), sc.sketch_points_m.end(), inside),
+      sc.sketch_points_m.end());
+  sc.candidates_m.erase(std::remove_if(sc.candidates_m.begin(), sc.candidates_m.end(), inside),
+                        sc.candidates_m.end());
+}
+
 /// A partial sketch: the walls and candidate locations east of `x_m` (sketch frame) are cut away.
 void drawOnlyWestOf(syn::Scenario& sc, double x_m) {
-  auto outside = [&](const Vector2d& p) { return p.x() > x_m; };
-  sc.sketch_points_m.erase(
-      std::remove_if(sc.sketch_points_m.begin(), sc.sketch_points_m.end(), outside),
-      sc.sketch_points_m.end());
-  sc.candidates_m.erase(std::remove_if(sc.candidates_m.begin(), sc.candidates_m.end(), outside),
-                        sc.candidates_m.end());
+  const double inf = std::numeric_limits<double>::infinity();
+  leaveOut(sc, {x_m, -inf}, {inf, inf});
 }
 
 /// Worst distance, over the sketch's walls near the path, between where `T` and the truth put them.
@@ -305,6 +315,7 @@ TEST(EndToEnd, AReportedHypothesisSurvivesClutterANewOneCouldNotPass) {
   SketchRegistration::Config strict;
   strict.kept_fitness_threshold_m = strict.fitness_threshold_m;
   strict.kept_min_inlier_ratio = strict.icp.min_inlier_ratio;
+  strict.kept_drawing_reach_m = 0.0;
   const std::vector<RegistrationStatus> late = lateStatuses(strict);
   EXPECT_TRUE(std::any_of(late.begin(), late.end(),
                           [](RegistrationStatus s) { return s != RegistrationStatus::kOk; }));
@@ -511,6 +522,32 @@ TEST(EndToEnd, PartialSketchKeepsItsTruePlacementBeyondTheDrawnPart) {
   SketchRegistration::Config strict = config;
   strict.kept_min_inside_ratio = strict.icp.min_inside_ratio;
   EXPECT_GT(framesWithoutTheTruthAfterRegistration(sc, truth, strict, &after), 0);
+}
+
+TEST(EndToEnd, RoomsLeftOutOfTheDrawingDoNotDropTheTruePlacement) {
+  // East of x = 30.5 m only the corridor (y in [16, 20]) is drawn: the rooms north and south of
+  // it are not, their outer walls included, while the corridor's walls keep the sketch's extent
+  // out to x = 60 m. The walk goes up the vertical corridor and through the south-east room,
+  // where the rooms' walls, metres from any drawn one, fill the window: the true placement's F
+  // over the whole window reaches 0.64 m and its coverage falls to 0.47.
+  const Sim2 truth(-1.2, 1.1, Vector2d(-8.0, 12.0));
+  syn::Scenario sc = officeScenario(truth);
+  leaveOut(sc, {30.5, 20.5}, {61.0, 41.0});
+  leaveOut(sc, {30.5, -1.0}, {61.0, 15.5});
+  // The walk is short: the hypothesis is 6 frames old when it enters the room.
+  SketchRegistration::Config config;
+  config.kept_drawing_reach_min_age_frames = 3;
+  int after = 0;
+  EXPECT_EQ(framesWithoutTheTruthAfterRegistration(sc, truth, config, &after), 0);
+  EXPECT_GE(after, 8) << "registered late or not at all";
+  // Contrast: judged on the whole window, it is lost in the south-east room; so it is when it
+  // is younger than the reach's minimum age.
+  SketchRegistration::Config whole_window = config;
+  whole_window.kept_drawing_reach_m = 0.0;
+  EXPECT_GT(framesWithoutTheTruthAfterRegistration(sc, truth, whole_window, &after), 0);
+  SketchRegistration::Config too_young = config;
+  too_young.kept_drawing_reach_min_age_frames = 12;
+  EXPECT_GT(framesWithoutTheTruthAfterRegistration(sc, truth, too_young, &after), 0);
 }
 
 /// A 200 m corridor (4 m wide) with identical 8 x 8 m rooms every 16 m on its north side and a

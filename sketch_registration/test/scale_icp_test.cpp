@@ -388,4 +388,35 @@ TEST(SketchWalls, ClearanceIsALowerBoundOfTheDistanceToTheNearestWall) {
 }
 
 }  // namespace
+TEST(ScaleIcp, ADrawingReachJudgesTheWallsNearTheDrawingAlone) {
+  // A 24 x 24 m hall drawn with its outline only; the robot saw, inside it, four 12 m walls the
+  // drawing leaves out, at least 6 m from every drawn wall (passages the user forgot). Over the
+  // whole view they weigh on F; within a 2 m reach of the drawing they are beyond the drawing:
+  // F and the inliers come from the outline, and the coverage still counts them unexplained.
+  syn::FloorPlan outline = {
+      {{0, 0}, {24, 0}}, {{24, 0}, {24, 24}}, {{24, 24}, {0, 24}}, {{0, 24}, {0, 0}}};
+  syn::FloorPlan seen = outline;
+  for (double x : {6.0, 10.0, 14.0, 18.0}) seen.push_back({{x, 6}, {x, 18}});
+  const Points2d sketch = syn::samplePlan(outline, 0.1);
+  const Points2d observed = syn::samplePlan(seen, 0.25);
+  ScaleIcpConfig config;
+  config.reverse_range_m = 0.0;
+  const ScaleIcp icp(sketch, config);
+  const IcpResult whole = icp.evaluate(Sim2(), observed);
+  const IcpResult near = icp.evaluate(Sim2(), observed, nullptr, 2.0);
+  const double undrawn = 4 * 49.0 / static_cast<double>(observed.size());  // 12 m at 0.25 m
+  EXPECT_GT(whole.fitness_m, 0.5);
+  EXPECT_NEAR(whole.inside_ratio, 1.0, 1e-9);
+  EXPECT_LT(near.fitness_m, 0.05);
+  EXPECT_NEAR(near.inlierRatio(), 1.0, 1e-9);
+  EXPECT_NEAR(near.inside_ratio, 1.0 - undrawn, 1e-9);
+  EXPECT_NEAR(near.coverage, whole.coverage, 1e-9);
+  EXPECT_NEAR(near.coverage, 1.0 - undrawn, 1e-9);
+  // A wrong placement, 1.5 m off, is judged on the walls near the drawing too, and fails.
+  const IcpResult shifted =
+      icp.evaluate(Sim2(0.0, 1.0, Vector2d(1.5, 1.5)), observed, nullptr, 2.0);
+  EXPECT_FALSE(config.inliersPass(shifted, config.min_inlier_ratio));
+  EXPECT_GT(shifted.fitness_m, 0.6);
+}
+
 }  // namespace efs::registration

@@ -52,6 +52,7 @@
 // --fitness-threshold-m, --min-inlier-ratio,
 // --kept-fitness-threshold-m, --kept-min-inlier-ratio, --forward-inlier-slack,
 // --slack-min-reverse-ratio, --max-stretch, --stretch-min-fitness-gain, --kept-min-inside-ratio,
+// --kept-drawing-reach-m, --kept-drawing-reach-min-age-frames,
 // --screen-points, --max-icp-inputs, --candidate-position-error-m,
 // --inlier-distance-m, --slice-min-dz-m, --slice-max-dz-m, --wall-columns 0|1, --column-cell-m,
 // --wall-min-height-m, --wall-max-gap-m, --wall-top-clear-m, --wall-continuation-m, --icp-range-m,
@@ -1035,6 +1036,8 @@ Options parse(int argc, char** argv) {
                         "max-stretch",
                         "stretch-min-fitness-gain",
                         "kept-min-inside-ratio",
+                        "kept-drawing-reach-m",
+                        "kept-drawing-reach-min-age-frames",
                         "inlier-distance-m",
                         "column-cell-m",
                         "wall-min-height-m",
@@ -1129,6 +1132,9 @@ Options parse(int argc, char** argv) {
   o.registration.max_icp_inputs =
       static_cast<int>(args.integer("max-icp-inputs", o.registration.max_icp_inputs));
   overrideNumber("kept-min-inside-ratio", o.registration.kept_min_inside_ratio);
+  overrideNumber("kept-drawing-reach-m", o.registration.kept_drawing_reach_m);
+  o.registration.kept_drawing_reach_min_age_frames = static_cast<int>(args.integer(
+      "kept-drawing-reach-min-age-frames", o.registration.kept_drawing_reach_min_age_frames));
   o.registration.observation.wall_columns =
       args.integer("wall-columns", o.registration.observation.wall_columns ? 1 : 0) != 0;
   overrideNumber("column-cell-m", o.registration.observation.column_cell_m);

@@ -107,7 +107,8 @@ struct IcpResult {
   /// Share of all observed points within inlier_distance_m of the mapped sketch, those outside
   /// the sketch's extent counted as unexplained.
   double coverage = 0.0;
-  /// Share of the observed points within the sketch's extent (those the fit is judged on).
+  /// Share of the observed points within the sketch's extent (those the fit is judged on; with a
+  /// drawing reach, those also within it of a sketch wall).
   double inside_ratio = 0.0;
   int iterations = 0;
   int num_points = 0;  ///< observed points used (those within the sketch's extent)
@@ -189,9 +190,13 @@ class ScaleIcp {
   IcpResult refine(const Sim2& T_init, const Points2d& observed_world_m,
                    double start_correspondence_m = 0.0,
                    const ObservedIndex* reverse = nullptr) const;
-  /// Only the fitness of `T` (no iterations).
+  /// Only the fitness of `T` (no iterations). `drawing_reach_m` > 0: observed points farther
+  /// than this (world metres) from every mapped sketch wall lie beyond the drawing and are
+  /// treated as those outside its extent are (not judged, unexplained in the coverage). Inside a
+  /// partial drawing's extent the robot sees passages it leaves out: their walls, metres from any
+  /// drawn one, say nothing about whether T lays the drawing where it belongs.
   IcpResult evaluate(const Sim2& T, const Points2d& observed_world_m,
-                     const ObservedIndex* reverse = nullptr) const;
+                     const ObservedIndex* reverse = nullptr, double drawing_reach_m = 0.0) const;
 
   /// See HistoryFit.
   HistoryFit historyFit(const Sim2& T, const Points2d& remembered_world_m) const;

@@ -146,6 +146,19 @@ struct SketchRegistrationConfig {
   /// a reported hypothesis is judged on the observed walls inside the sketch alone (at least
   /// icp.min_points of them), by the kept F and inlier bounds.
   double kept_min_inside_ratio = 0.0;
+  /// A reported hypothesis that fails the kept bounds on the whole window is judged again on the
+  /// observed walls within this many world metres of a mapped sketch wall (ScaleIcp::evaluate's
+  /// drawing reach); the rest count against its coverage, not its F. Flying through a passage a
+  /// partial drawing leaves out, inside its extent, raised the true placement's F to 1.9-2.8 m
+  /// (Pittsburgh mine, partial), while all 600 remembered walls inside lay on drawn ones; a
+  /// wrong placement still lays half the walls near the drawing more than a metre off. 0: off.
+  double kept_drawing_reach_m = 2.0;
+  /// ... once it has passed this many consecutive frames. On a repetitive floor a placement one
+  /// bay off fits the walls near the drawing as well as the truth: the paper garage's partial
+  /// drawing had three such placements held 50 s longer by the reach, at ages 3-7 frames (F 0.09
+  /// m, inliers 1.0 near the drawing, coverage 0.29-0.61), while the mine's true placement was
+  /// rescued at ages 60-300.
+  int kept_drawing_reach_min_age_frames = 12;
   /// Coverage (IcpResult::coverage) is the share of the observation a hypothesis explains, with
   /// observed walls beyond the sketch's extent unexplained. F alone does not tell a hand drawing
   /// laid shrunken on an office's repetitive walls from its true placement (ed21_1: F 0.27-0.54 m

@@ -67,6 +67,8 @@ SketchRegistrationNodeConfig loadSketchRegistrationNodeConfig(const ros::NodeHan
   p.get("stretch_min_fitness_gain", r.stretch_min_fitness_gain);
   p.get("min_inside_ratio", r.icp.min_inside_ratio);
   p.get("kept_min_inside_ratio", r.kept_min_inside_ratio);
+  p.get("kept_drawing_reach_m", r.kept_drawing_reach_m);
+  p.get("kept_drawing_reach_min_age_frames", r.kept_drawing_reach_min_age_frames);
   p.get("confirm_frames", r.confirm_frames);
   p.get("dormant_frames", r.dormant_frames);
   p.get("settled_coverage", r.settled_coverage);
