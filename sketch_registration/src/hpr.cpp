@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "efs_common/config_check.h"
+#include "efs_common/fast_atan.h"
 
 namespace efs::registration {
 
@@ -30,7 +31,7 @@ void PolarDepthBuffer::reset() {
 }
 
 int PolarDepthBuffer::fineBin(double dx_m, double dy_m) const {
-  double a = std::atan2(dy_m, dx_m) + config_.angle_offset_rad;
+  double a = fastAtan2(dy_m, dx_m) + config_.angle_offset_rad;
   if (a < 0.0) a += 2.0 * M_PI;
   if (a >= 2.0 * M_PI) a -= 2.0 * M_PI;
   const int n = config_.num_fine_bins;
@@ -44,14 +45,14 @@ void PolarDepthBuffer::splat(double dx_m, double dy_m) {
     return;
   }
   const double r = std::sqrt(r2);
-  double a = std::atan2(dy_m, dx_m) + config_.angle_offset_rad;
+  double a = fastAtan2(dy_m, dx_m) + config_.angle_offset_rad;
   if (a < 0.0) a += 2.0 * M_PI;
   if (a >= 2.0 * M_PI) a -= 2.0 * M_PI;
   const double center = a * bins_per_rad_;
   const int n = config_.num_fine_bins;
   // Half the subtended angle, in bins; capped so a point on the viewpoint cannot blank half the
   // horizon.
-  const double half = std::min(std::atan(config_.point_radius_m / r) * bins_per_rad_, n / 8.0);
+  const double half = std::min(fastAtan(config_.point_radius_m / r) * bins_per_rad_, n / 8.0);
   const int lo = static_cast<int>(std::floor(center - half));
   const int hi = static_cast<int>(std::floor(center + half));
   const float rf = static_cast<float>(r);
