@@ -511,7 +511,8 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
   const FitBounds kept_bounds{config_.kept_fitness_threshold_m, config_.kept_min_inlier_ratio,
                               config_.kept_min_inside_ratio, config_.history_kept_min_inlier_ratio};
   for (const Input& in : inputs) {
-    const FitBounds& bounds = in.id && in.age >= config_.confirm_frames ? kept_bounds : new_bounds;
+    const bool reported = in.id && in.age >= config_.confirm_frames;
+    const FitBounds& bounds = reported ? kept_bounds : new_bounds;
     const auto judged = [&](const IcpResult& x) {
       return x.usable && x.inside_ratio >= bounds.min_inside;
     };
@@ -552,7 +553,7 @@ void SketchRegistration::updateHypotheses(const Points2d& icp_points, const Obse
       return judged(x) && config_.icp.inliersPass(x, bounds.min_inliers) &&
              x.fitness_m <= bounds.max_fitness_m;
     };
-    if (&bounds == &kept_bounds && config_.kept_drawing_reach_m > 0.0 &&
+    if (reported && config_.kept_drawing_reach_m > 0.0 &&
         in.age >= config_.kept_drawing_reach_min_age_frames && !passes(r)) {
       const IcpResult near_drawing =
           icp_->evaluate(r.T_world_sketch, icp_points, &observed, config_.kept_drawing_reach_m);
