@@ -104,9 +104,9 @@ cv::Mat1b shortTriangles(const cv::Mat1b& walls, double max_edge_px, int step_px
   std::vector<cv::Vec6f> triangles;
   subdiv.getTriangleList(triangles);
   const double max_sq = max_edge_px * max_edge_px;
+  const auto sq = [](const cv::Point2f& d) { return double(d.x) * d.x + double(d.y) * d.y; };
   for (const cv::Vec6f& t : triangles) {
     const cv::Point2f a(t[0], t[1]), b(t[2], t[3]), c(t[4], t[5]);
-    const auto sq = [](const cv::Point2f& d) { return double(d.x) * d.x + double(d.y) * d.y; };
     if (sq(a - b) > max_sq || sq(b - c) > max_sq || sq(c - a) > max_sq) continue;
     const cv::Point corners[3] = {cv::Point(cvRound(a.x), cvRound(a.y)),
                                   cv::Point(cvRound(b.x), cvRound(b.y)),

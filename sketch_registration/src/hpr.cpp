@@ -30,10 +30,15 @@ void PolarDepthBuffer::reset() {
   std::fill(depth_.begin(), depth_.end(), std::numeric_limits<float>::infinity());
 }
 
-int PolarDepthBuffer::fineBin(double dx_m, double dy_m) const {
+double PolarDepthBuffer::bearingRad(double dx_m, double dy_m) const {
   double a = fastAtan2(dy_m, dx_m) + config_.angle_offset_rad;
   if (a < 0.0) a += 2.0 * M_PI;
   if (a >= 2.0 * M_PI) a -= 2.0 * M_PI;
+  return a;
+}
+
+int PolarDepthBuffer::fineBin(double dx_m, double dy_m) const {
+  const double a = bearingRad(dx_m, dy_m);
   const int n = config_.num_fine_bins;
   return std::min(n - 1, std::max(0, static_cast<int>(a * bins_per_rad_)));
 }
@@ -45,10 +50,7 @@ void PolarDepthBuffer::splat(double dx_m, double dy_m) {
     return;
   }
   const double r = std::sqrt(r2);
-  double a = fastAtan2(dy_m, dx_m) + config_.angle_offset_rad;
-  if (a < 0.0) a += 2.0 * M_PI;
-  if (a >= 2.0 * M_PI) a -= 2.0 * M_PI;
-  const double center = a * bins_per_rad_;
+  const double center = bearingRad(dx_m, dy_m) * bins_per_rad_;
   const int n = config_.num_fine_bins;
   // Half the subtended angle, in bins; capped so a point on the viewpoint cannot blank half the
   // horizon.

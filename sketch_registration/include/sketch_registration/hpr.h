@@ -45,6 +45,8 @@ class PolarDepthBuffer {
   const HprConfig& config() const { return config_; }
 
  private:
+  /// Bearing of (dx, dy) plus angle_offset_rad, in [0, 2 pi): what splat and fineBin bin by.
+  double bearingRad(double dx_m, double dy_m) const;
   HprConfig config_;
   double bins_per_rad_;
   std::vector<float> depth_;
