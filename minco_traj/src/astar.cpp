@@ -59,11 +59,19 @@ struct Node {
 };
 }  // namespace
 
-AStarPlanner::Band AStarPlanner::unknownBand(double z0_m, double z1_m) const {
+AStarPlanner::Band AStarPlanner::unknownBand(double z0_m, double z1_m, double cell_m) const {
+  const double m = cfg_.unknown_height_margin_m, tol = 0.5 * cell_m;
   // On the way down only the start's height: unknown space below the vehicle is the LiDAR's
   // blind cone, not space it has not reached yet (seen: descending 1.4 m to a viewpoint, the
   // route crossed unknown cells beside it that were a rock, and the vehicle hit it at 2 m/s).
-  return {z0_m - cfg_.unknown_height_margin_m, std::max(z0_m, z1_m) + cfg_.unknown_height_margin_m};
+  // Otherwise the margin is the goal's, not the start's: a margin around the start moves with
+  // the vehicle, and each replan took it half a metre lower (seen in ed21: a door whose lower
+  // sides were unseen, 1.24 -> 1.03 -> 0.87 -> 0.58 m in four plans, the floor hit at 0.40 m;
+  // the goal stayed at 1.2-1.35 m). The same holds upwards. The start's own cell (its centre
+  // may lie half a cell beyond it) stays usable.
+  const double lo = z1_m < z0_m ? z0_m - m : std::min(z0_m - tol, z1_m - m);
+  const double hi = z1_m > z0_m ? z1_m + m : std::max(z0_m + tol, z1_m + m);
+  return {lo, hi};
 }
 
 bool AStarPlanner::traversable(const LocalGrid& grid, const VoxelKey& k,
@@ -82,13 +90,13 @@ bool AStarPlanner::segmentClear(const LocalGrid& grid, const Eigen::Vector3d& a,
 
 bool AStarPlanner::lineOfSight(const LocalGrid& grid, const Eigen::Vector3d& a,
                                const Eigen::Vector3d& b) const {
-  return segmentClear(grid, a, b, unknownBand(a.z(), b.z()));
+  return segmentClear(grid, a, b, unknownBand(a.z(), b.z(), grid.resolution()));
 }
 
 bool AStarPlanner::nearestFree(const LocalGrid& grid, const VoxelKey& k, double radius_m,
                                VoxelKey* out) const {
   const double z = grid.center(k).z();
-  return nearestTraversable(grid, k, radius_m, unknownBand(z, z), out);
+  return nearestTraversable(grid, k, radius_m, unknownBand(z, z, grid.resolution()), out);
 }
 
 bool AStarPlanner::nearestTraversable(const LocalGrid& grid, const VoxelKey& k, double radius_m,
@@ -140,7 +148,7 @@ AStarResult AStarPlanner::plan(const LocalGrid& grid, const Eigen::Vector3d& sta
     res.goal_adjusted = true;
   }
   VoxelKey sk = grid.key(start), gk = grid.key(goal);
-  const Band band = unknownBand(start.z(), goal.z());
+  const Band band = unknownBand(start.z(), goal.z(), res_m);
   Eigen::Vector3d escape_point = start;
   if (!traversable(grid, sk, band)) {
     VoxelKey free_k;

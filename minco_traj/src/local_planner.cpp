@@ -20,6 +20,8 @@ void LocalPlannerConfig::validate() const {
                  1.0);
   requireInRange("local_planner.narrow_clearance_m", narrow_clearance_m, 0.0, corridor.clearance_m);
   requireInRange("local_planner.narrow_v_max_mps", narrow_v_max_mps, 0.1, optimizer.v_max_mps);
+  requireInRange("local_planner.narrow_corridor_tolerance_m", narrow_corridor_tolerance_m, 0.0,
+                 0.05);
 }
 
 const char* toString(PlanStatus s) {
@@ -55,6 +57,7 @@ CorridorConfig narrowCorridor(const LocalPlannerConfig& c) {
 TrajOptConfig narrowOptimizer(const LocalPlannerConfig& c) {
   TrajOptConfig o = c.optimizer;
   o.v_max_mps = c.narrow_v_max_mps;
+  o.corridor_tolerance_m = std::max(o.corridor_tolerance_m, c.narrow_corridor_tolerance_m);
   return o;
 }
 

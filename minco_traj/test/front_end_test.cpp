@@ -601,12 +601,17 @@ TEST(AStar, NoPathWhenGoalIsEnclosed) {
   EXPECT_EQ(r.status, AStarStatus::kNoPath);
 }
 
+// smallGrid without inflation, 2 m tall (centred on z = 1 m: the floor at 0).
+LocalGridConfig twoMetresTall() {
+  LocalGridConfig cfg = smallGrid(0.0);
+  cfg.size_z_m = 2.0;
+  return cfg;
+}
+
 // Seen space in a height band with a wall across it; beyond the band nobody has looked (the
 // LiDAR's blind spots straight below and above the vehicle).
 LocalGrid seenBandWithAWall(double band_lo_z, double band_hi_z) {
-  LocalGridConfig cfg = smallGrid(0.0);
-  cfg.size_z_m = 2.0;
-  LocalGrid g(cfg, Eigen::Vector3d(0, 0, 1.0));
+  LocalGrid g(twoMetresTall(), Eigen::Vector3d(0, 0, 1.0));
   for (double x = -1.45; x < 1.5; x += 0.1)
     for (double y = -1.45; y < 1.5; y += 0.1)
       for (double z = band_lo_z + 0.05; z < band_hi_z; z += 0.1) {
@@ -657,9 +662,7 @@ TEST(AStar, DoesNotLeaveTheStartAndGoalHeightsThroughUnknownSpace) {
   }
   {  // unknown space from the start's height up to the goal's stays usable (optimistic
      // planning toward the unseen, up a shaft) ...
-    LocalGridConfig cfg = smallGrid(0.0);
-    cfg.size_z_m = 2.0;
-    const LocalGrid open(cfg, Eigen::Vector3d(0, 0, 1.0));
+    const LocalGrid open(twoMetresTall(), Eigen::Vector3d(0, 0, 1.0));
     const Eigen::Vector3d s(-1.0, 0.0, 0.25), t(1.0, 0.0, 1.75);
     const auto r = AStarPlanner(c).plan(open, s, t);
     ASSERT_TRUE(r.ok()) << toString(r.status);
@@ -672,9 +675,42 @@ TEST(AStar, DoesNotLeaveTheStartAndGoalHeightsThroughUnknownSpace) {
       EXPECT_GE(minZ(down.grid_path_world_m), t.z() - 0.5 - 0.05);
     }
     // Down through seen free space is fine.
-    LocalGrid seen(cfg, Eigen::Vector3d(0, 0, 1.0));
+    LocalGrid seen(twoMetresTall(), Eigen::Vector3d(0, 0, 1.0));
     seen.setAllFree();
     EXPECT_TRUE(AStarPlanner(c).plan(seen, t, s).ok());
+  }
+}
+
+// Each replan starts where the last left the vehicle: a margin around the start would move down
+// (or up) with it, half a metre per plan (seen in ed21: a door whose lower sides were unseen,
+// 1.24 -> 1.03 -> 0.87 -> 0.58 m in four plans, the floor hit at 0.40 m, the goal at 1.2 m).
+// Below (above) its goal, the vehicle is held to the goal's margin.
+TEST(AStar, AReplanDoesNotCarryTheVehicleFurtherFromItsGoalHeightThroughUnknownSpace) {
+  AStarConfig c;
+  c.unknown_is_free = true;
+  {  // already dipped to 0.95 m on the way to a goal at 1.35 m: not down to 0.45 m under the wall
+    const LocalGrid g = seenBandWithAWall(0.6, 2.0);
+    const Eigen::Vector3d s(-1.0, 0.0, 0.95), t(1.0, 0.0, 1.35);
+    EXPECT_EQ(AStarPlanner(c).plan(g, s, t).status, AStarStatus::kNoPath);
+    // The way under the wall is there: a margin around the start took it.
+    AStarConfig wide = c;
+    wide.unknown_height_margin_m = 0.9;
+    const auto r = AStarPlanner(wide).plan(g, s, t);
+    ASSERT_TRUE(r.ok()) << toString(r.status);
+    EXPECT_LT(minZ(r.grid_path_world_m), 0.6);
+  }
+  {  // climbed to 1.05 m on the way to a goal at 0.65 m: not up to 1.55 m over the wall
+    const LocalGrid g = seenBandWithAWall(0.0, 1.4);
+    const Eigen::Vector3d s(-1.0, 0.0, 1.05), t(1.0, 0.0, 0.65);
+    EXPECT_EQ(AStarPlanner(c).plan(g, s, t).status, AStarStatus::kNoPath);
+  }
+  {  // within the goal's margin the unknown space stays usable, around the start's own cell too
+    const LocalGrid open(twoMetresTall(), Eigen::Vector3d(0, 0, 1.0));
+    const Eigen::Vector3d s(-1.0, 0.0, 0.95), t(1.0, 0.0, 1.35);
+    const auto r = AStarPlanner(c).plan(open, s, t);
+    ASSERT_TRUE(r.ok()) << toString(r.status);
+    EXPECT_FALSE(r.start_escaped);
+    EXPECT_GE(minZ(r.grid_path_world_m), s.z() - 0.05 - 1e-9);
   }
 }
 

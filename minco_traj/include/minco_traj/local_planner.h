@@ -46,6 +46,12 @@ struct LocalPlannerConfig {
   /// flown at narrow_v_max_mps at most, where tracking is tight. 0 turns it off.
   double narrow_clearance_m = 0.36;
   double narrow_v_max_mps = 1.0;
+  /// A narrow trajectory may leave its corridor by this much in the final check: the part of
+  /// narrow_clearance_m's margin it may use. The penalties keep samples corridor_margin_m
+  /// inside, more than half of a door's narrow corridor (0.9 m: 0.18 m wide), and the result
+  /// strayed 5-12 mm out of it (seen in ed21 at 0.15 m: the vehicle hovered in a door for 30 s
+  /// while every goal beyond it was refused).
+  double narrow_corridor_tolerance_m = 0.02;
   void validate() const;
 };
 

@@ -62,6 +62,7 @@ MincoTrajNodeConfig loadMincoTrajNodeConfig(const ros::NodeHandle& private_nh) {
   p.get("braking_first_decel_fraction", s.planner.braking_first_decel_fraction);
   p.get("narrow_clearance_m", s.planner.narrow_clearance_m);
   p.get("narrow_v_max_mps", s.planner.narrow_v_max_mps);
+  p.get("narrow_corridor_tolerance_m", s.planner.narrow_corridor_tolerance_m);
   p.rejectUnknown();
   requireThat(!c.world_frame.empty(), "world_frame", "must not be empty");
   requireInRange("command_rate_hz", c.command_rate_hz, 1.0, 1000.0);
