@@ -154,6 +154,13 @@ class Mapping {
   double worldDistanceAtLeast(double clearance_sketch_m) const {
     return min_gain_ * (clearance_sketch_m - 1e-6);
   }
+  /// A squared sketch distance beyond which worldDistance() exceeds `world_m`: the inverse of
+  /// the bound above, with a relative and an absolute margin for rounding, so that a search
+  /// limited to it finds every sketch point within `world_m` of the query in the world.
+  double sketchDistanceAtMostSquared(double world_m) const {
+    const double r = world_m / min_gain_ * (1.0 + 1e-9) + 1e-6;
+    return r * r;
+  }
 
  private:
   Sim2 T_;
@@ -200,6 +207,7 @@ Sim2 ScaleIcp::coarseSearch(const Sim2& T0, const Points2d& observed,
   }
   auto cost = [&](const Sim2& T) {
     const Mapping m(T);
+    const double cap_d2_sketch = m.sketchDistanceAtMostSquared(cap);
     double sum = 0.0;
     for (const auto& p : sample) {
       const Eigen::Vector2d q = m.toSketch(p);
@@ -212,8 +220,8 @@ Sim2 ScaleIcp::coarseSearch(const Sim2& T0, const Points2d& observed,
         sum += cap;
         continue;
       }
-      const auto nn = grid.nearest(q);
-      sum += std::min(cap, m.worldDistance(grid.points()[nn.first], nn.second, p));
+      const auto nn = grid.nearestWithin(q, cap_d2_sketch);
+      sum += nn ? std::min(cap, m.worldDistance(grid.points()[nn->first], nn->second, p)) : cap;
     }
     double cost = sum / static_cast<double>(sample.size());
     // One-sided distances favour a smaller scale (denser sketch walls are always near); the
@@ -346,15 +354,16 @@ HistoryFit ScaleIcp::historyFit(const Sim2& T, const Points2d& remembered) const
   const NearestPointGrid2d& grid = sketch_->nearest();
   if (grid.size() == 0 || !T.isFinite() || !(T.scale > 0.0)) return h;
   const Mapping m(T);
+  const double inlier_d2_sketch = m.sketchDistanceAtMostSquared(config_.inlier_distance_m);
   for (const auto& p : remembered) {
     ++h.points;
     const Eigen::Vector2d q = m.toSketch(p);
     if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
     ++h.inside;
     if (m.worldDistanceAtLeast(sketch_->clearanceAtLeast(q)) > config_.inlier_distance_m) continue;
-    const auto nn = grid.nearest(q);
+    const auto nn = grid.nearestWithin(q, inlier_d2_sketch);
     h.explained +=
-        m.worldDistance(grid.points()[nn.first], nn.second, p) <= config_.inlier_distance_m;
+        nn && m.worldDistance(grid.points()[nn->first], nn->second, p) <= config_.inlier_distance_m;
   }
   return h;
 }
@@ -389,15 +398,17 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
   int it = 0;
   for (; it < config_.max_iterations; ++it) {
     const Mapping m(T);
+    const double corr_d2_sketch = m.sketchDistanceAtMostSquared(max_corr);
     pairs.clear();
     for (const auto& p : *iter_points) {
       const Eigen::Vector2d q = m.toSketch(p);
       if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
       // No wall within the capture radius: no pair, as the search would conclude.
       if (m.worldDistanceAtLeast(sketch_->clearanceAtLeast(q)) > max_corr) continue;
-      const auto nn = grid.nearest(q);
-      const double d = m.worldDistance(grid.points()[nn.first], nn.second, p);
-      if (d <= max_corr) pairs.push_back({d, grid.points()[nn.first], p});
+      const auto nn = grid.nearestWithin(q, corr_d2_sketch);
+      if (!nn) continue;
+      const double d = m.worldDistance(grid.points()[nn->first], nn->second, p);
+      if (d <= max_corr) pairs.push_back({d, grid.points()[nn->first], p});
     }
     if (static_cast<int>(pairs.size()) < config_.min_points) break;
     if (config_.symmetric && reverse && reverse->tree && reverse->tree->size() > 0 &&
