@@ -208,6 +208,7 @@ Sim2 ScaleIcp::coarseSearch(const Sim2& T0, const Points2d& observed,
   auto cost = [&](const Sim2& T) {
     const Mapping m(T);
     const double cap_d2_sketch = m.sketchDistanceAtMostSquared(cap);
+    const double cap_d2_world = cap * cap * (1.0 + 1e-9);  // a hair wider: squares round
     double sum = 0.0;
     for (const auto& p : sample) {
       const Eigen::Vector2d q = m.toSketch(p);
@@ -230,7 +231,8 @@ Sim2 ScaleIcp::coarseSearch(const Sim2& T0, const Points2d& observed,
     if (!visible0.empty()) {
       double rsum = 0.0;
       for (const auto& c : visible0) {
-        rsum += std::min(cap, std::sqrt(reverse->tree->nearest(m.toWorld(c)).second));
+        const auto nn = reverse->tree->nearestWithin(m.toWorld(c), cap_d2_world);
+        rsum += nn ? std::min(cap, std::sqrt(nn->second)) : cap;
       }
       cost += rsum / static_cast<double>(visible0.size());
     }
@@ -415,11 +417,13 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
         config_.reverse_range_m > 0.0) {
       // Symmetric ICP: sketch walls the robot would see under T pull toward observed points too,
       // which keeps walls hidden in the sketch from capturing observed points.
+      // Squared, the capture radius may round either way: a bound a hair wider, then the test.
+      const double corr_d2 = max_corr * max_corr * (1.0 + 1e-9);
       for (const auto& c : visibleSketch(T, reverse->robot_world_m)) {
-        const Eigen::Vector2d tc = m.toWorld(c);
-        const auto nn = reverse->tree->nearest(tc);
-        const double d = std::sqrt(nn.second);
-        if (d <= max_corr) pairs.push_back({d, c, reverse->tree->points()[nn.first]});
+        const auto nn = reverse->tree->nearestWithin(m.toWorld(c), corr_d2);
+        if (!nn) continue;
+        const double d = std::sqrt(nn->second);
+        if (d <= max_corr) pairs.push_back({d, c, reverse->tree->points()[nn->first]});
       }
     }
     const size_t keep = std::max<size_t>(3, static_cast<size_t>(config_.trim_ratio * pairs.size()));
