@@ -55,32 +55,6 @@ TEST(NearestPointGrid, AnswersExactlyInsideAndOutsideTheGrid) {
   }
 }
 
-TEST(NearestPointGrid, NearestWithinAgreesWithNearestInListedCellsAndInTheTree) {
-  const auto pts = floorPlan();
-  const NearestPointGrid2d grid(pts, {-2, -2}, {42, 27});
-  std::mt19937 rng(9);
-  std::uniform_real_distribution<double> u(-10, 50);
-  int found = 0, none = 0;
-  for (int i = 0; i < 3000; ++i) {
-    const Eigen::Vector2d q(u(rng), u(rng) * 0.7);
-    const auto nn = grid.nearest(q);
-    for (const double max_d2 : {0.04, 1.0, 9.0, nn.second}) {
-      const auto within = grid.nearestWithin(q, max_d2);
-      if (nn.second <= max_d2) {
-        ASSERT_TRUE(within.has_value()) << q.transpose();
-        EXPECT_EQ(within->first, nn.first) << q.transpose();
-        EXPECT_EQ(within->second, nn.second);
-        ++found;
-      } else {
-        EXPECT_FALSE(within.has_value()) << q.transpose();
-        ++none;
-      }
-    }
-  }
-  EXPECT_GT(found, 3000);
-  EXPECT_GT(none, 1000);
-}
-
 TEST(NearestPointGrid, RandomPointsAndAGivenCellSize) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(0, 10);

@@ -47,39 +47,6 @@ TEST(PointKdTree, NearestIsTheFirstOfKnn) {
   }
 }
 
-TEST(PointKdTree, NearestWithinIsTheNearestInsideTheBoundAndNothingBeyond) {
-  std::mt19937 rng(13);
-  std::uniform_real_distribution<double> u(-20, 20);
-  PointKdTree2d::Points pts;
-  for (int i = 0; i < 300; ++i) pts.emplace_back(u(rng), u(rng));
-  for (int i = 0; i < 10; ++i) pts.emplace_back(30.0 + i, 30.0);  // exact ties, as nearest's test
-  const PointKdTree2d tree(pts);
-  std::vector<Eigen::Vector2d> queries;
-  for (int trial = 0; trial < 300; ++trial) queries.emplace_back(1.5 * u(rng), 1.5 * u(rng));
-  for (int i = 0; i < 9; ++i) queries.emplace_back(30.5 + i, 31.0);
-  int found = 0, none = 0;
-  for (const Eigen::Vector2d& q : queries) {
-    const auto nn = tree.nearest(q);
-    for (const double max_d2 : {0.25, 1.0, 4.0, nn.second}) {
-      const auto within = tree.nearestWithin(q, max_d2);
-      if (nn.second <= max_d2) {
-        ASSERT_TRUE(within.has_value()) << q.transpose() << " within " << max_d2;
-        EXPECT_EQ(within->first, nn.first) << q.transpose();  // the same of several ties
-        EXPECT_EQ(within->second, nn.second);
-        ++found;
-      } else {
-        EXPECT_FALSE(within.has_value()) << q.transpose() << " within " << max_d2;
-        ++none;
-      }
-    }
-  }
-  EXPECT_GT(found, 300);  // both branches are exercised, the bound inclusive (max_d2 = nn)
-  EXPECT_GT(none, 100);
-  EXPECT_FALSE(tree.nearestWithin(Eigen::Vector2d::Zero(), std::nan("")).has_value());
-  EXPECT_FALSE(tree.nearestWithin(Eigen::Vector2d::Zero(), -1.0).has_value());
-  EXPECT_FALSE(PointKdTree2d().nearestWithin(Eigen::Vector2d::Zero(), 1e9).has_value());
-}
-
 TEST(PointKdTree, RadiusSearchFindsExactlyThePointsInside) {
   PointKdTree3d::Points pts;
   for (int i = 0; i < 10; ++i) pts.emplace_back(i, 0, 0);

@@ -154,13 +154,6 @@ class Mapping {
   double worldDistanceAtLeast(double clearance_sketch_m) const {
     return min_gain_ * (clearance_sketch_m - 1e-6);
   }
-  /// A squared sketch distance beyond which worldDistance() exceeds `world_m`: the inverse of
-  /// the bound above, with a relative and an absolute margin for rounding, so that a search
-  /// limited to it finds every sketch point within `world_m` of the query in the world.
-  double sketchDistanceAtMostSquared(double world_m) const {
-    const double r = world_m / min_gain_ * (1.0 + 1e-9) + 1e-6;
-    return r * r;
-  }
 
  private:
   Sim2 T_;
@@ -207,8 +200,6 @@ Sim2 ScaleIcp::coarseSearch(const Sim2& T0, const Points2d& observed,
   }
   auto cost = [&](const Sim2& T) {
     const Mapping m(T);
-    const double cap_d2_sketch = m.sketchDistanceAtMostSquared(cap);
-    const double cap_d2_world = cap * cap * (1.0 + 1e-9);  // a hair wider: squares round
     double sum = 0.0;
     for (const auto& p : sample) {
       const Eigen::Vector2d q = m.toSketch(p);
@@ -221,8 +212,8 @@ Sim2 ScaleIcp::coarseSearch(const Sim2& T0, const Points2d& observed,
         sum += cap;
         continue;
       }
-      const auto nn = grid.nearestWithin(q, cap_d2_sketch);
-      sum += nn ? std::min(cap, m.worldDistance(grid.points()[nn->first], nn->second, p)) : cap;
+      const auto nn = grid.nearest(q);
+      sum += std::min(cap, m.worldDistance(grid.points()[nn.first], nn.second, p));
     }
     double cost = sum / static_cast<double>(sample.size());
     // One-sided distances favour a smaller scale (denser sketch walls are always near); the
@@ -231,8 +222,7 @@ Sim2 ScaleIcp::coarseSearch(const Sim2& T0, const Points2d& observed,
     if (!visible0.empty()) {
       double rsum = 0.0;
       for (const auto& c : visible0) {
-        const auto nn = reverse->tree->nearestWithin(m.toWorld(c), cap_d2_world);
-        rsum += nn ? std::min(cap, std::sqrt(nn->second)) : cap;
+        rsum += std::min(cap, std::sqrt(reverse->tree->nearest(m.toWorld(c)).second));
       }
       cost += rsum / static_cast<double>(visible0.size());
     }
@@ -356,16 +346,15 @@ HistoryFit ScaleIcp::historyFit(const Sim2& T, const Points2d& remembered) const
   const NearestPointGrid2d& grid = sketch_->nearest();
   if (grid.size() == 0 || !T.isFinite() || !(T.scale > 0.0)) return h;
   const Mapping m(T);
-  const double inlier_d2_sketch = m.sketchDistanceAtMostSquared(config_.inlier_distance_m);
   for (const auto& p : remembered) {
     ++h.points;
     const Eigen::Vector2d q = m.toSketch(p);
     if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
     ++h.inside;
     if (m.worldDistanceAtLeast(sketch_->clearanceAtLeast(q)) > config_.inlier_distance_m) continue;
-    const auto nn = grid.nearestWithin(q, inlier_d2_sketch);
+    const auto nn = grid.nearest(q);
     h.explained +=
-        nn && m.worldDistance(grid.points()[nn->first], nn->second, p) <= config_.inlier_distance_m;
+        m.worldDistance(grid.points()[nn.first], nn.second, p) <= config_.inlier_distance_m;
   }
   return h;
 }
@@ -400,30 +389,26 @@ IcpResult ScaleIcp::refine(const Sim2& T_init, const Points2d& observed,
   int it = 0;
   for (; it < config_.max_iterations; ++it) {
     const Mapping m(T);
-    const double corr_d2_sketch = m.sketchDistanceAtMostSquared(max_corr);
     pairs.clear();
     for (const auto& p : *iter_points) {
       const Eigen::Vector2d q = m.toSketch(p);
       if ((q.array() < box_min_.array()).any() || (q.array() > box_max_.array()).any()) continue;
       // No wall within the capture radius: no pair, as the search would conclude.
       if (m.worldDistanceAtLeast(sketch_->clearanceAtLeast(q)) > max_corr) continue;
-      const auto nn = grid.nearestWithin(q, corr_d2_sketch);
-      if (!nn) continue;
-      const double d = m.worldDistance(grid.points()[nn->first], nn->second, p);
-      if (d <= max_corr) pairs.push_back({d, grid.points()[nn->first], p});
+      const auto nn = grid.nearest(q);
+      const double d = m.worldDistance(grid.points()[nn.first], nn.second, p);
+      if (d <= max_corr) pairs.push_back({d, grid.points()[nn.first], p});
     }
     if (static_cast<int>(pairs.size()) < config_.min_points) break;
     if (config_.symmetric && reverse && reverse->tree && reverse->tree->size() > 0 &&
         config_.reverse_range_m > 0.0) {
       // Symmetric ICP: sketch walls the robot would see under T pull toward observed points too,
       // which keeps walls hidden in the sketch from capturing observed points.
-      // Squared, the capture radius may round either way: a bound a hair wider, then the test.
-      const double corr_d2 = max_corr * max_corr * (1.0 + 1e-9);
       for (const auto& c : visibleSketch(T, reverse->robot_world_m)) {
-        const auto nn = reverse->tree->nearestWithin(m.toWorld(c), corr_d2);
-        if (!nn) continue;
-        const double d = std::sqrt(nn->second);
-        if (d <= max_corr) pairs.push_back({d, c, reverse->tree->points()[nn->first]});
+        const Eigen::Vector2d tc = m.toWorld(c);
+        const auto nn = reverse->tree->nearest(tc);
+        const double d = std::sqrt(nn.second);
+        if (d <= max_corr) pairs.push_back({d, c, reverse->tree->points()[nn.first]});
       }
     }
     const size_t keep = std::max<size_t>(3, static_cast<size_t>(config_.trim_ratio * pairs.size()));

@@ -9,7 +9,6 @@
 
 #include <Eigen/Core>
 #include <cstdint>
-#include <optional>
 #include <utility>
 #include <vector>
 
@@ -61,25 +60,6 @@ class NearestPointGrid2d {
       }
     }
     return {best, best_d2};
-  }
-
-  /// The nearest point if it lies within `max_d2` (squared distance, inclusive), else none; when
-  /// there is one, the point nearest() names. Cheaper than nearest() where the grid hands the
-  /// query to the k-d tree (far from every point): no branch beyond `max_d2` is searched.
-  std::optional<std::pair<size_t, double>> nearestWithin(const Eigen::Vector2d& q,
-                                                         double max_d2) const {
-    const double fx = (q.x() - min_m_.x()) * inv_cell_;
-    const double fy = (q.y() - min_m_.y()) * inv_cell_;
-    if (fx >= 0.0 && fy >= 0.0 && fx < nx_ && fy < ny_) {
-      const size_t cell =
-          static_cast<size_t>(fy) * static_cast<size_t>(nx_) + static_cast<size_t>(fx);
-      if (begin_[cell] != begin_[cell + 1]) {
-        const auto nn = nearest(q);
-        if (nn.second <= max_d2) return nn;
-        return std::nullopt;
-      }
-    }
-    return tree_.nearestWithin(q, max_d2);
   }
 
   double cellSize() const { return cell_m_; }

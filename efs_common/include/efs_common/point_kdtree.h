@@ -5,11 +5,8 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <cmath>
-#include <limits>
 #include <memory>
 #include <nanoflann.hpp>
-#include <optional>
 #include <utility>
 #include <vector>
 
@@ -57,22 +54,6 @@ class PointKdTree {
     result.init(&index, &d2);
     index_->findNeighbors(result, q.data(), nanoflann::SearchParams());
     return {index, d2};
-  }
-
-  /// The nearest neighbour if it lies within `max_d2` (squared distance, inclusive), else none:
-  /// branches beyond that distance are not searched. The same point as nearest() when there is
-  /// one (the search visits the remaining branches in the same order).
-  std::optional<std::pair<size_t, double>> nearestWithin(const Point& q, double max_d2) const {
-    if (!index_ || size() == 0 || !(max_d2 >= 0.0)) return std::nullopt;
-    size_t index = size();
-    double d2 = 0.0;
-    nanoflann::KNNResultSet<double, size_t> result(1);
-    result.init(&index, &d2);
-    // The result set's worst distance: only points strictly closer are taken.
-    d2 = std::nextafter(max_d2, std::numeric_limits<double>::infinity());
-    index_->findNeighbors(result, q.data(), nanoflann::SearchParams());
-    if (index == size()) return std::nullopt;
-    return std::make_pair(index, d2);
   }
 
   /// All points within `radius` (not squared): (index, squared distance), closest first.
