@@ -36,14 +36,14 @@ struct AStarConfig {
   /// near the floor is where the Mid-360 (-7 to 52 deg, pitched down 15) does not look (seen: a
   /// path around an office desk dove to 0.35 m and hit it).
   double unknown_cost_factor = 1.0;
-  /// With unknown_is_free: unknown cells are traversable only within this height of the goal's
-  /// (on the way up, never below the start; on the way down, never above it), and on the way
-  /// down only within it of the start's height (the way down crosses seen space). The LiDAR
-  /// looks neither straight down nor straight up (Mid-360: -7 to 52 deg, pitched), so a route
-  /// that leaves that band through unknown space heads for a floor or ceiling nobody has seen
-  /// (seen in ed21: a detour under a desk dove from 1.2 m to 0.35 m and hit the floor; one over
-  /// a wall climbed to 2.25 m and hit the ceiling at 2.5 m). The goal's height, not the start's:
-  /// a margin around the start moves with the vehicle, half a metre further each replan.
+  /// With unknown_is_free: unknown cells are traversable only within this height of the goal's,
+  /// the band widened to take in the start's own height; on the way down no lower than this
+  /// below the start's height (the way down crosses seen space). The LiDAR looks neither
+  /// straight down nor straight up (Mid-360: -7 to 52 deg, pitched), so a route that leaves that
+  /// band through unknown space heads for a floor or ceiling nobody has seen (seen in ed21: a
+  /// detour under a desk dove from 1.2 m to 0.35 m and hit the floor; one over a wall climbed to
+  /// 2.25 m and hit the ceiling at 2.5 m). The goal's height, not the start's: a margin around
+  /// the start moves with the vehicle, half a metre further each replan.
   double unknown_height_margin_m = 0.5;
   void validate() const;
 };
