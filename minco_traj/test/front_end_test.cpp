@@ -635,15 +635,18 @@ double maxZ(const std::vector<Eigen::Vector3d>& path) {
   return z;
 }
 
+// A* with unknown space free within `margin_m` of the height band (unknown_height_margin_m).
+AStarResult planWithMargin(const LocalGrid& g, const Eigen::Vector3d& s, const Eigen::Vector3d& t,
+                           double margin_m) {
+  AStarConfig c;
+  c.unknown_is_free = true;
+  c.unknown_height_margin_m = margin_m;
+  return AStarPlanner(c).plan(g, s, t);
+}
+
 TEST(AStar, DoesNotLeaveTheStartAndGoalHeightsThroughUnknownSpace) {
   AStarConfig c;
   c.unknown_is_free = true;
-  const auto planWithMargin = [&](const LocalGrid& g, const Eigen::Vector3d& s,
-                                  const Eigen::Vector3d& t, double margin_m) {
-    AStarConfig wide = c;
-    wide.unknown_height_margin_m = margin_m;
-    return AStarPlanner(wide).plan(g, s, t);
-  };
   {  // the way under the wall is a way toward an unseen floor
     const LocalGrid g = seenBandWithAWall(0.6, 2.0);
     const Eigen::Vector3d s(-1.0, 0.0, 1.35), t(1.0, 0.0, 1.35);
@@ -693,9 +696,7 @@ TEST(AStar, AReplanDoesNotCarryTheVehicleFurtherFromItsGoalHeightThroughUnknownS
     const Eigen::Vector3d s(-1.0, 0.0, 0.95), t(1.0, 0.0, 1.35);
     EXPECT_EQ(AStarPlanner(c).plan(g, s, t).status, AStarStatus::kNoPath);
     // The way under the wall is there: a margin around the start took it.
-    AStarConfig wide = c;
-    wide.unknown_height_margin_m = 0.9;
-    const auto r = AStarPlanner(wide).plan(g, s, t);
+    const auto r = planWithMargin(g, s, t, 0.9);
     ASSERT_TRUE(r.ok()) << toString(r.status);
     EXPECT_LT(minZ(r.grid_path_world_m), 0.6);
   }
