@@ -364,9 +364,8 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   // those beside places no flight can enter (a garage's closed service core) drew the small
   // garage's flights across it (precise seed 3 68.2 -> 87.4 s).
   if (vps.empty() && config_.use_openings && config_.openings.vouched_min_cells > 0) {
-    vouched = unseenGuidepoints(
-        occupancy_, guiding_guidepoints_world_m_, robot.position_world_m.z(),
-        config_.openings.vouched_unseen_radius_m, config_.openings.vouched_unseen_fraction);
+    vouched = unseenPlaces(occupancy_, vouchingPlaces(), config_.openings.vouched_unseen_radius_m,
+                           config_.openings.vouched_unseen_fraction);
     if (!vouched.empty()) {
       openings.reset();
       collect();
@@ -435,10 +434,14 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   last_plan_ = planner_.plan(in);
   // A plan without viewpoints has no guiding hypothesis; the one before it still says where the
   // sketch vouches for unseen places, while hypotheses remain.
-  if (const HypothesisAttachment* guide = activeAttachment())
+  if (const HypothesisAttachment* guide = activeAttachment()) {
     guiding_guidepoints_world_m_ = guide->guidepoints_world_m;
-  else if (hypotheses_.empty())
+    for (const Hypothesis& h : plan_hypotheses_)
+      if (h.id == last_plan_->active_hypothesis_id) guiding_T_world_sketch_ = h.T_world_sketch;
+  } else if (hypotheses_.empty()) {
     guiding_guidepoints_world_m_.clear();
+    guiding_T_world_sketch_.reset();
+  }
   last_plan_time_s_ = time_s;
   hypotheses_changed_ = false;
   goal_refused_ = false;
@@ -673,6 +676,14 @@ PathSearchResult ExplorationManager::searchFromRobot(const Eigen::Vector3d& from
   PathSearchResult r = path_cache_.search().search(from, to);
   if (!r.length_m && robot_on_fine_lattice_) r = fine_search_->search(from, to);
   return r;
+}
+
+std::vector<Eigen::Vector2d> ExplorationManager::vouchingPlaces() const {
+  std::vector<Eigen::Vector2d> out = guiding_guidepoints_world_m_;
+  if (guiding_T_world_sketch_ && prior_)
+    for (const Eigen::Vector2d& s : prior_->predicted_free_sketch_m)
+      out.push_back(guiding_T_world_sketch_->apply(s));
+  return out;
 }
 
 const HypothesisAttachment* ExplorationManager::activeAttachment() const {

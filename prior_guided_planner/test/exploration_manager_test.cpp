@@ -723,21 +723,34 @@ TEST(ExplorationManager, HypothesesGuideAndBadOnesAreRefused) {
 }
 
 // Once no viewpoint is left the plan has no guiding hypothesis, but the openings the sketch
-// vouches for are still looked for near its guidepoints: those of the last guided plan, kept
-// while hypotheses remain.
+// vouches for are still looked for near its guidepoints and its predicted free space: those of
+// the last guided plan, kept while hypotheses remain.
 TEST(ExplorationManager, TheGuidingGuidepointsOutliveAPlanWithoutViewpoints) {
   ExplorationManagerConfig c;
   c.finish_confirmation_s = 2.0;
-  ExplorationManager m(c, corridorPrior(4, 5.0));
+  GuidepointPrior prior = corridorPrior(4, 5.0);
+  prior.predicted_free_sketch_m = {Eigen::Vector2d(2.0, 0.5), Eigen::Vector2d(12.0, -0.5)};
+  ExplorationManager m(c, prior);
   const Scene room = corridorRoom();
   scanCorridor(m);
-  m.setHypotheses({Hypothesis{9, Sim2(0.0, 1.0, Eigen::Vector2d(1.0, 0.0)), 0.8}});
+  // Turned a quarter and shifted: the free samples must go through the whole transform.
+  const Sim2 T_world_sketch(M_PI / 2.0, 1.0, Eigen::Vector2d(10.0, -6.0));
+  m.setHypotheses({Hypothesis{9, T_world_sketch, 0.8}});
   ASSERT_TRUE(m.update(0.0, at(corridorStart())).has_goal);
   const HypothesisAttachment* guide = m.activeAttachment();
   ASSERT_NE(guide, nullptr);
   const std::vector<Eigen::Vector2d> guided = guide->guidepoints_world_m;
   ASSERT_EQ(guided.size(), 4u);
   EXPECT_EQ(m.guidingGuidepoints(), guided);
+  std::vector<Eigen::Vector2d> places = guided;
+  places.emplace_back(9.5, -4.0);  // (2, 0.5) turned: (-0.5, 2), shifted
+  places.emplace_back(10.5, 6.0);  // (12, -0.5) turned: (0.5, 12), shifted
+  const auto expectPlaces = [&](const std::vector<Eigen::Vector2d>& got) {
+    ASSERT_EQ(got.size(), places.size());
+    for (size_t i = 0; i < got.size(); ++i)
+      EXPECT_TRUE(got[i].isApprox(places[i], 1e-9)) << i << ": " << got[i].transpose();
+  };
+  expectPlaces(m.vouchingPlaces());
   // Every corner seen: nothing left to plan for, no guiding hypothesis, the guidepoints kept.
   for (const Eigen::Vector3d& p : {Eigen::Vector3d(8.0, 0.1, 1.6), Eigen::Vector3d(13.5, 0.1, 1.6),
                                    Eigen::Vector3d(8.0, -2.0, 0.8), Eigen::Vector3d(8.0, 2.0, 2.4)})
@@ -746,10 +759,12 @@ TEST(ExplorationManager, TheGuidingGuidepointsOutliveAPlanWithoutViewpoints) {
   ASSERT_FALSE(t.has_goal) << t.message;
   EXPECT_EQ(m.activeAttachment(), nullptr);
   EXPECT_EQ(m.guidingGuidepoints(), guided);
+  expectPlaces(m.vouchingPlaces());
   // Without hypotheses there is nothing to vouch for.
   m.setHypotheses({});
   m.update(1.5, at(corridorStart()));
   EXPECT_TRUE(m.guidingGuidepoints().empty());
+  EXPECT_TRUE(m.vouchingPlaces().empty());
 }
 
 TEST(ExplorationManager, GreedyPriorModeFollowsThePredictedCorridor) {

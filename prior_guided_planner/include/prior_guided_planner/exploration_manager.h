@@ -272,6 +272,9 @@ class ExplorationManager {
   const std::vector<Eigen::Vector2d>& guidingGuidepoints() const {
     return guiding_guidepoints_world_m_;
   }
+  /// Where the sketch vouches for unseen space, under the guiding hypothesis: its guidepoints and
+  /// its predicted free samples (GuidepointPrior::predicted_free_sketch_m).
+  std::vector<Eigen::Vector2d> vouchingPlaces() const;
   const std::optional<GuidepointPrior>& prior() const { return prior_; }
   const ExplorationInputStats& inputStats() const { return stats_; }
   const ExplorationManagerConfig& config() const { return config_; }
@@ -357,6 +360,8 @@ class ExplorationManager {
   };
   std::optional<NothingLeft> nothing_left_;
   std::vector<Eigen::Vector2d> guiding_guidepoints_world_m_;  ///< guidingGuidepoints()
+  /// The hypothesis behind guiding_guidepoints_world_m_, kept alike.
+  std::optional<Sim2> guiding_T_world_sketch_;
   /// Progress toward the current target (target_progress_m).
   struct Progress {
     int viewpoint_id;

@@ -68,14 +68,19 @@ struct OpeningConfig {
   /// cells the door fell below the bound as the vehicle came nearer. 0: off.
   int vouched_min_cells = 5;
   double vouched_radius_m = 4.0;
-  /// A guidepoint vouches only with room around it: at least vouched_unseen_fraction of the
-  /// cells within vouched_unseen_radius_m of it, horizontally at the flight height, unseen
-  /// (unseenGuidepoints). A hypothesis that puts a guidepoint a little off, into a wall or just
-  /// past the end of a corridor, leaves known walls and free space beside it: in the small
-  /// indoor world (partial sketch, seed 4) such a guidepoint had 0.72 of 2 m unseen, and its
-  /// opening was looked at three times for nothing at the end of the flight (12 s); the two
-  /// guidepoints in the room behind ed21's door had 0.90 and 0.96. Radius 0: the guidepoint's
-  /// own cell decides.
+  /// The places that vouch are the guiding hypothesis' guidepoints and the free space the sketch
+  /// predicts (its free samples, 1 sketch m apart): a drawing may put a room's only guidepoint
+  /// in its door, with the corridor's seen space around it (ed21, `sketch_ed21_2`: 0.6 m inside
+  /// the door of the room east of the south-east block, whose rays from the corridor came at
+  /// 11 degrees; no flight entered it, and the drawing's flight ended at 94.8 %).
+  /// A place vouches only with room around it: at least vouched_unseen_fraction of the
+  /// columns within vouched_unseen_radius_m of it unseen at every height (unseenPlaces). A
+  /// hypothesis that puts a guidepoint a little off, into a wall or just past the end of a
+  /// corridor, leaves known walls and free space beside it: in the small indoor world (partial
+  /// sketch, seed 4) such a guidepoint had 0.72 of 2 m unseen, and its opening was looked at three
+  /// times for nothing at the end of the flight (12 s); the two guidepoints in the room behind
+  /// ed21's door had 0.90 and 0.96 (cells at the flight height, measured before whole columns
+  /// counted). Radius 0: the place's own column decides.
   double vouched_unseen_radius_m = 2.0;
   double vouched_unseen_fraction = 0.8;
   /// Openings beyond this horizontal range of the robot are left out [m]. Openings are asked for
@@ -104,20 +109,22 @@ std::vector<Opening> findOpenings(const OccupancyMap& occupancy,
                                   const OpeningConfig& config = {});
 /// The same from the map's opening cells (openingCellsOf, or an OpeningCellIndex's, with the
 /// bounds they were found with). `vouched_xy_world_m`: places the sketch says are there to see
-/// and no scan has reached (unseenGuidepoints); smaller clusters near them count too
+/// and no scan has reached (unseenPlaces); smaller clusters near them count too
 /// (OpeningConfig::vouched_min_cells).
 std::vector<Opening> findOpenings(const OccupancyMap& occupancy, const OpeningCells& cells,
                                   const Eigen::Vector3d& robot_world_m,
                                   const OpeningConfig& config = {},
                                   const std::vector<Eigen::Vector2d>& vouched_xy_world_m = {});
 
-/// The guidepoints (mapped into the world by a hypothesis, HypothesisAttachment) that lie in
-/// space no scan has reached (a room the drawing shows and the flight has not looked into): at
-/// `height_m`, the cell there is unknown to `occupancy`, and so is at least `min_unseen_fraction`
-/// of the cells whose centres lie within `unseen_radius_m` of it horizontally.
-std::vector<Eigen::Vector2d> unseenGuidepoints(
-    const OccupancyMap& occupancy, const std::vector<Eigen::Vector2d>& guidepoints_world_m,
-    double height_m, double unseen_radius_m = 0.0, double min_unseen_fraction = 1.0);
+/// The places of a sketch (its guidepoints and predicted free samples, mapped into the world by a
+/// hypothesis: ExplorationManager::vouchingPlaces) that lie in space no scan has reached (a room
+/// the drawing shows and the flight has not looked into): no cell of its column, at any height,
+/// is known to `occupancy`, and the same holds for at least `min_unseen_fraction` of the columns
+/// whose centres lie within `unseen_radius_m` of it.
+std::vector<Eigen::Vector2d> unseenPlaces(const OccupancyMap& occupancy,
+                                          const std::vector<Eigen::Vector2d>& places_world_m,
+                                          double unseen_radius_m = 0.0,
+                                          double min_unseen_fraction = 1.0);
 
 /// The openings a plan tours (ExplorationManagerConfig::near_openings_radius_m): all of them
 /// when no surface viewpoint is left; when no surface viewpoint lies within `near_radius_m`
