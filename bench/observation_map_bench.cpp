@@ -31,6 +31,7 @@
 #include "efs_common/resource_usage.h"
 #include "prior_guided_planner/exploration_manager.h"
 #include "prior_guided_planner/frontier_clusters.h"
+#include "prior_guided_planner/known_columns.h"
 #include "prior_guided_planner/observation_map.h"
 #include "prior_guided_planner/occupancy_map.h"
 #include "prior_guided_planner/opening_cells.h"
@@ -256,8 +257,10 @@ int main(int argc, char** argv) {
   // Openings as a plan asks for them (every 5th frame: a plan per 0.5 s at 10 Hz), by a pass over
   // the whole map and from the cells an OpeningCellIndex keeps (marked after every scan).
   OpeningCellIndex opening_index(occ, std::nullopt);
-  Series t_mark, t_plan_pass, t_plan_kept;
-  int openings_differ = 0;
+  // The columns a scan has reached (where the sketch's places are unseen), kept alike.
+  KnownColumns known_columns(occ);
+  Series t_mark, t_plan_pass, t_plan_kept, t_columns_kept, t_columns_pass;
+  int openings_differ = 0, columns_differ = 0;
   int frame = 0;
   double next_report = report_every_m;
   Eigen::Vector3d robot = Eigen::Vector3d::Zero();
@@ -275,7 +278,14 @@ int main(int argc, char** argv) {
     w.restart();
     opening_index.update();
     t_mark.v.push_back(w.elapsedMs());
+    w.restart();
+    known_columns.update();
+    t_columns_kept.v.push_back(w.elapsedMs());
     if (frame % 5 == 0) {
+      w.restart();
+      const KnownColumns rebuilt(occ);
+      t_columns_pass.v.push_back(w.elapsedMs());
+      if (rebuilt.size() != known_columns.size()) ++columns_differ;
       w.restart();
       const std::vector<Opening> pass = findOpenings(occ, o, std::nullopt);
       t_plan_pass.v.push_back(w.elapsedMs());
@@ -435,6 +445,11 @@ int main(int argc, char** argv) {
   row("openings, pass over the whole map", t_plan_pass, "");
   row("openings, from the kept cells", t_plan_kept, "");
   std::printf("\nplans whose openings differ between the two: %d\n", openings_differ);
+  std::printf("\nknown columns (KnownColumns, %zu at the end):\n\n", known_columns.size());
+  header();
+  row("keeping them per scan (KnownColumns::update)", t_columns_kept, "");
+  row("a pass over the whole map, every 5th frame", t_columns_pass, "");
+  std::printf("\nframes whose kept column count differs from the pass's: %d\n", columns_differ);
   std::printf("\npeak RSS %.1f MiB\n", efs::peakRssBytes() / double(1 << 20));
   return 0;
 }

@@ -114,6 +114,7 @@ ExplorationManager::ExplorationManager(const ExplorationManagerConfig& config,
       observation_(config_.observation),
       occupancy_(config_.occupancy),
       opening_cells_(occupancy_, config_.bounds_world_m),
+      known_columns_(occupancy_),
       clusters_(config_.frontier),
       viewpoint_manager_(ViewpointSampler(config_.viewpoint, config_.fov)),
       path_cache_(occupancy_, config_.path),
@@ -163,6 +164,7 @@ void ExplorationManager::insertScan(const Eigen::Vector3d& origin,
   observation_.insertScan(origin, pts);
   occupancy_.insertScan(origin, pts);
   if (config_.use_openings) opening_cells_.update();  // else never asked: a plain cost per scan
+  if (config_.use_openings && config_.openings.vouched_min_cells > 0) known_columns_.update();
   path_cache_.sync();
   ++stats_.scans_inserted;
   map_dirty_ = true;
@@ -364,8 +366,9 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   // those beside places no flight can enter (a garage's closed service core) drew the small
   // garage's flights across it (precise seed 3 68.2 -> 87.4 s).
   if (vps.empty() && config_.use_openings && config_.openings.vouched_min_cells > 0) {
-    vouched = unseenPlaces(occupancy_, vouchingPlaces(), config_.openings.vouched_unseen_radius_m,
-                           config_.openings.vouched_unseen_fraction);
+    vouched =
+        unseenPlaces(known_columns_, vouchingPlaces(), config_.openings.vouched_unseen_radius_m,
+                     config_.openings.vouched_unseen_fraction);
     if (!vouched.empty()) {
       openings.reset();
       collect();

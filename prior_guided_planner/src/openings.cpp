@@ -260,28 +260,21 @@ bool ReachedOpenings::movedOn(const Opening& opening) const {
          (opening.viewpoint_world_m - v->second.viewpoint_world_m).norm() > config_.moved_m;
 }
 
-std::vector<Eigen::Vector2d> unseenPlaces(const OccupancyMap& occ,
+std::vector<Eigen::Vector2d> unseenPlaces(KnownColumns& known,
                                           const std::vector<Eigen::Vector2d>& places_world_m,
                                           double unseen_radius_m, double min_unseen_fraction) {
+  // Whole columns: a place at the flight height inside the rock above a lower passage is unknown
+  // there, but that passage was seen. The small cave climbs (its precise flight from 9.7 to
+  // 15.1 m); judged at the flight height, places of its drawing in columns seen above or below
+  // vouched, and that flight toured 81 pockets, 22.7 -> 105.4 s.
   std::vector<Eigen::Vector2d> out;
-  if (places_world_m.empty()) return out;
-  // Columns with a known cell at any height: a place at the flight height inside the rock above a
-  // lower passage is unknown there, but that passage was seen. The small cave climbs (its precise
-  // flight from 9.7 to 15.1 m); judged at the flight height, places of its drawing in columns seen
-  // above or below vouched, and that flight toured 81 pockets, 22.7 -> 105.4 s.
-  const auto column = [](int x, int y) {
-    return (static_cast<uint64_t>(static_cast<uint32_t>(x)) << 32) | static_cast<uint32_t>(y);
-  };
-  std::unordered_set<uint64_t> seen;
-  occ.forEachKnownCell(
-      [&](const VoxelKey& k, double, OccupancyState) { seen.insert(column(k.x, k.y)); });
-  const auto unseen = [&](int x, int y) { return seen.count(column(x, y)) == 0; };
+  const OccupancyMap& occ = known.map();
   const double res = occ.resolution();
   const int reach = static_cast<int>(std::floor(std::max(0.0, unseen_radius_m) / res));
   for (const Eigen::Vector2d& w : places_world_m) {
     if (!w.allFinite()) continue;
     const VoxelKey centre = occ.key(Eigen::Vector3d(w.x(), w.y(), 0.0));
-    if (!unseen(centre.x, centre.y)) continue;
+    if (known.seen(centre.x, centre.y)) continue;
     // Columns on the place's cell lattice, so that the fraction does not depend on where in its
     // cell the place lies.
     int cells = 0, unseen_cells = 0;
@@ -289,7 +282,7 @@ std::vector<Eigen::Vector2d> unseenPlaces(const OccupancyMap& occ,
       for (int dy = -reach; dy <= reach; ++dy) {
         if ((dx * dx + dy * dy) * res * res > unseen_radius_m * unseen_radius_m) continue;
         ++cells;
-        unseen_cells += unseen(centre.x + dx, centre.y + dy) ? 1 : 0;
+        unseen_cells += known.seen(centre.x + dx, centre.y + dy) ? 0 : 1;
       }
     }
     if (unseen_cells >= min_unseen_fraction * cells) out.push_back(w);

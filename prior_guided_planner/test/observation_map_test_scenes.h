@@ -84,4 +84,22 @@ inline std::vector<Box> hollowBox(const Eigen::Vector3d& lo, const Eigen::Vector
   return out;
 }
 
+/// A hall of 20 x 8 x 3 m split at x = 5 by a wall with a 1.2 m door, a crate in its left part.
+inline Scene doorHall() {
+  Scene scene;
+  scene.room = {{-5, -4, 0}, {15, 4, 3}};
+  scene.solids.push_back({{5.0, -4, 0}, {5.3, -0.6, 3}});
+  scene.solids.push_back({{5.0, 0.6, 0}, {5.3, 4, 3}});
+  scene.solids.push_back({{1.0, 2.0, 0}, {2.0, 3.0, 0.8}});
+  return scene;
+}
+
+/// doorHall() flown from its left part through the door into its right one, a point every
+/// `step_m` along x.
+inline std::vector<Eigen::Vector3d> doorHallRoute(double step_m) {
+  std::vector<Eigen::Vector3d> r;
+  for (double x = -3.0; x <= 10.0; x += step_m) r.push_back({x, 0.1 * x, 1.2 + 0.05 * x});
+  return r;
+}
+
 }  // namespace efs::planner::testing

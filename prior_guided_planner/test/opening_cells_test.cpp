@@ -15,22 +15,10 @@ namespace {
 
 using testing::Scene;
 
-// The hall of openings_test: 20 x 8 x 3 m, split at x = 5 by a wall with a 1.2 m door, a crate in
-// the left part. Flown from the left part through the door into the right one.
-Scene hall() {
-  Scene scene;
-  scene.room = {{-5, -4, 0}, {15, 4, 3}};
-  scene.solids.push_back({{5.0, -4, 0}, {5.3, -0.6, 3}});
-  scene.solids.push_back({{5.0, 0.6, 0}, {5.3, 4, 3}});
-  scene.solids.push_back({{1.0, 2.0, 0}, {2.0, 3.0, 0.8}});
-  return scene;
-}
-
-std::vector<Eigen::Vector3d> route() {
-  std::vector<Eigen::Vector3d> r;
-  for (double x = -3.0; x <= 10.0; x += 0.25) r.push_back({x, 0.1 * x, 1.2 + 0.05 * x});
-  return r;
-}
+// The hall of openings_test (doorHall), flown from the left part through the door into the
+// right one.
+Scene hall() { return testing::doorHall(); }
+std::vector<Eigen::Vector3d> route() { return testing::doorHallRoute(0.25); }
 
 /// The hall flown along the route, scan by scan, with an index kept beside the map.
 struct HallFlight {

@@ -367,8 +367,9 @@ TEST(Openings, APocketIsAWayOnWhereTheSketchVouchesForAnUnseenPlaceNearIt) {
 // openings near them.
 TEST(Openings, UnseenGuidepointsAreThoseNoScanReached) {
   const OccupancyMap occ = scanned(false);  // the right part behind the closed wall is unseen
+  KnownColumns known(occ);
   const std::vector<Eigen::Vector2d> guidepoints = {{1.0, 0.0}, {11.0, 0.0}};
-  const std::vector<Eigen::Vector2d> unseen = unseenPlaces(occ, guidepoints);
+  const std::vector<Eigen::Vector2d> unseen = unseenPlaces(known, guidepoints);
   ASSERT_EQ(unseen.size(), 1u);
   EXPECT_LT((unseen.front() - Eigen::Vector2d(11.0, 0.0)).norm(), 1e-9);
 }
@@ -380,27 +381,31 @@ TEST(Openings, APlaceOverASeenPassageIsNotUnseen) {
   const Eigen::Vector2d over_the_room(1.0, 0.0);
   ASSERT_TRUE(occ.isUnknown(occ.key(Eigen::Vector3d(1.0, 0.0, 10.0))));  // the rock above
   ASSERT_FALSE(occ.isUnknown(occ.key(Eigen::Vector3d(1.0, 0.0, 1.5))));  // the room
-  EXPECT_TRUE(unseenPlaces(occ, {over_the_room}).empty());
-  EXPECT_TRUE(unseenPlaces(OccupancyMap(), {}).empty());
-  EXPECT_EQ(unseenPlaces(OccupancyMap(), {over_the_room}).size(), 1u);  // nothing seen at all
+  KnownColumns known(occ);
+  EXPECT_TRUE(unseenPlaces(known, {over_the_room}).empty());
+  const OccupancyMap empty;
+  KnownColumns none(empty);
+  EXPECT_TRUE(unseenPlaces(none, {}).empty());
+  EXPECT_EQ(unseenPlaces(none, {over_the_room}).size(), 1u);  // nothing seen at all
 }
 
 // A guidepoint 0.5 m behind the closed wall stands in an unseen cell, but the wall and the
 // scanned room lie within 2 m of it: it vouches only when its own cell decides.
 TEST(Openings, AnUnseenGuidepointBesideKnownWallsNeedsRoomAroundItToVouch) {
   const OccupancyMap occ = scanned(false);
+  KnownColumns known(occ);
   const std::vector<Eigen::Vector2d> guidepoints = {{5.8, 0.0}, {11.0, 0.0}};
-  ASSERT_EQ(unseenPlaces(occ, guidepoints).size(), 2u);
+  ASSERT_EQ(unseenPlaces(known, guidepoints).size(), 2u);
   const OpeningConfig defaults;
   const std::vector<Eigen::Vector2d> roomy = unseenPlaces(
-      occ, guidepoints, defaults.vouched_unseen_radius_m, defaults.vouched_unseen_fraction);
+      known, guidepoints, defaults.vouched_unseen_radius_m, defaults.vouched_unseen_fraction);
   ASSERT_EQ(roomy.size(), 1u);
   EXPECT_LT((roomy.front() - Eigen::Vector2d(11.0, 0.0)).norm(), 1e-9);
   // Nothing asked of the surroundings: the radius alone, or a fraction of 0.
-  EXPECT_EQ(unseenPlaces(occ, guidepoints, 2.0, 0.0).size(), 2u);
-  EXPECT_EQ(unseenPlaces(occ, guidepoints, 0.0, 1.0).size(), 2u);
+  EXPECT_EQ(unseenPlaces(known, guidepoints, 2.0, 0.0).size(), 2u);
+  EXPECT_EQ(unseenPlaces(known, guidepoints, 0.0, 1.0).size(), 2u);
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_TRUE(unseenPlaces(occ, {{nan, 0.0}}, 2.0, 0.9).empty());
+  EXPECT_TRUE(unseenPlaces(known, {{nan, 0.0}}, 2.0, 0.9).empty());
 }
 
 TEST(Openings, BadInput) {

@@ -311,6 +311,7 @@ class ExplorationManager {
   ObservationMap observation_;
   OccupancyMap occupancy_;
   OpeningCellIndex opening_cells_;
+  KnownColumns known_columns_;  ///< where the sketch's places are unseen (vouched openings)
   FrontierClusterer clusters_;
   ViewpointManager viewpoint_manager_;
   PathLengthCache path_cache_;

@@ -27,6 +27,7 @@
 #include <optional>
 #include <vector>
 
+#include "prior_guided_planner/known_columns.h"
 #include "prior_guided_planner/occupancy_map.h"
 #include "prior_guided_planner/opening_cells.h"
 
@@ -119,9 +120,9 @@ std::vector<Opening> findOpenings(const OccupancyMap& occupancy, const OpeningCe
 /// The places of a sketch (its guidepoints and predicted free samples, mapped into the world by a
 /// hypothesis: ExplorationManager::vouchingPlaces) that lie in space no scan has reached (a room
 /// the drawing shows and the flight has not looked into): no cell of its column, at any height,
-/// is known to `occupancy`, and the same holds for at least `min_unseen_fraction` of the columns
-/// whose centres lie within `unseen_radius_m` of it.
-std::vector<Eigen::Vector2d> unseenPlaces(const OccupancyMap& occupancy,
+/// is known to the map of `known`, and the same holds for at least `min_unseen_fraction` of the
+/// columns whose centres lie within `unseen_radius_m` of it.
+std::vector<Eigen::Vector2d> unseenPlaces(KnownColumns& known,
                                           const std::vector<Eigen::Vector2d>& places_world_m,
                                           double unseen_radius_m = 0.0,
                                           double min_unseen_fraction = 1.0);
