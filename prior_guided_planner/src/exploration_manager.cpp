@@ -437,12 +437,10 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   last_plan_ = planner_.plan(in);
   // A plan without viewpoints has no guiding hypothesis; the one before it still says where the
   // sketch vouches for unseen places, while hypotheses remain.
-  if (const HypothesisAttachment* guide = activeAttachment()) {
-    guiding_guidepoints_world_m_ = guide->guidepoints_world_m;
+  if (activeAttachment()) {
     for (const Hypothesis& h : plan_hypotheses_)
       if (h.id == last_plan_->active_hypothesis_id) guiding_T_world_sketch_ = h.T_world_sketch;
   } else if (hypotheses_.empty()) {
-    guiding_guidepoints_world_m_.clear();
     guiding_T_world_sketch_.reset();
   }
   last_plan_time_s_ = time_s;
@@ -681,8 +679,16 @@ PathSearchResult ExplorationManager::searchFromRobot(const Eigen::Vector3d& from
   return r;
 }
 
+std::vector<Eigen::Vector2d> ExplorationManager::guidingGuidepoints() const {
+  std::vector<Eigen::Vector2d> out;
+  if (guiding_T_world_sketch_ && prior_)
+    for (const Eigen::Vector2d& g : prior_->positions_sketch_m)
+      out.push_back(guiding_T_world_sketch_->apply(g));
+  return out;
+}
+
 std::vector<Eigen::Vector2d> ExplorationManager::vouchingPlaces() const {
-  std::vector<Eigen::Vector2d> out = guiding_guidepoints_world_m_;
+  std::vector<Eigen::Vector2d> out = guidingGuidepoints();
   if (guiding_T_world_sketch_ && prior_)
     for (const Eigen::Vector2d& s : prior_->predicted_free_sketch_m)
       out.push_back(guiding_T_world_sketch_->apply(s));

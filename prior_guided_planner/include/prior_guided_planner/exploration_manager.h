@@ -267,11 +267,9 @@ class ExplorationManager {
   /// The selected prior sequence of the last plan as world positions (empty when none).
   std::vector<Eigen::Vector2d> activeGuidepointSequence() const;
   /// The guidepoints in the world of the last plan that had a guiding hypothesis, kept through
-  /// plans without one (no viewpoint left) while hypotheses remain; where the openings the
-  /// sketch vouches for are looked for (OpeningConfig::vouched_min_cells).
-  const std::vector<Eigen::Vector2d>& guidingGuidepoints() const {
-    return guiding_guidepoints_world_m_;
-  }
+  /// plans without one (no viewpoint left) while hypotheses remain; with the predicted free
+  /// space, where the openings the sketch vouches for are looked for (vouchingPlaces).
+  std::vector<Eigen::Vector2d> guidingGuidepoints() const;
   /// Where the sketch vouches for unseen space, under the guiding hypothesis: its guidepoints and
   /// its predicted free samples (GuidepointPrior::predicted_free_sketch_m).
   std::vector<Eigen::Vector2d> vouchingPlaces() const;
@@ -360,8 +358,8 @@ class ExplorationManager {
     size_t scans_inserted;
   };
   std::optional<NothingLeft> nothing_left_;
-  std::vector<Eigen::Vector2d> guiding_guidepoints_world_m_;  ///< guidingGuidepoints()
-  /// The hypothesis behind guiding_guidepoints_world_m_, kept alike.
+  /// The hypothesis of the last plan that had a guiding one, kept while hypotheses remain
+  /// (guidingGuidepoints, vouchingPlaces).
   std::optional<Sim2> guiding_T_world_sketch_;
   /// Progress toward the current target (target_progress_m).
   struct Progress {
