@@ -72,8 +72,8 @@ struct OpeningConfig {
   /// The places that vouch are the guiding hypothesis' guidepoints and the free space the sketch
   /// predicts (its free samples, 1 sketch m apart): a drawing may put a room's only guidepoint
   /// in its door, with the corridor's seen space around it (ed21, `sketch_ed21_2`: 0.6 m inside
-  /// the door of the room east of the south-east block, whose rays from the corridor came at
-  /// 11 degrees; no flight entered it, and the drawing's flight ended at 94.8 %).
+  /// the door of the room east of the south-east block, seen from the corridor only at a
+  /// grazing angle; the drawing's flight never entered it and ended at 94.8 %).
   /// A place vouches only with room around it: at least vouched_unseen_fraction of the
   /// columns within vouched_unseen_radius_m of it unseen at every height (unseenPlaces). A
   /// hypothesis that puts a guidepoint a little off, into a wall or just past the end of a
