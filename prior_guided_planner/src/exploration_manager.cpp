@@ -437,12 +437,10 @@ void ExplorationManager::replan(double time_s, const RobotPose& robot) {
   last_plan_ = planner_.plan(in);
   // A plan without viewpoints has no guiding hypothesis; the one before it still says where the
   // sketch vouches for unseen places, while hypotheses remain.
-  if (activeAttachment()) {
-    for (const Hypothesis& h : plan_hypotheses_)
-      if (h.id == last_plan_->active_hypothesis_id) guiding_T_world_sketch_ = h.T_world_sketch;
-  } else if (hypotheses_.empty()) {
+  if (const std::optional<size_t> k = activeUsedIndex())
+    guiding_T_world_sketch_ = plan_hypotheses_[last_plan_->used_hypotheses[*k]].T_world_sketch;
+  else if (hypotheses_.empty())
     guiding_T_world_sketch_.reset();
-  }
   last_plan_time_s_ = time_s;
   hypotheses_changed_ = false;
   goal_refused_ = false;
@@ -679,29 +677,35 @@ PathSearchResult ExplorationManager::searchFromRobot(const Eigen::Vector3d& from
   return r;
 }
 
+void ExplorationManager::appendThroughGuide(const std::vector<Eigen::Vector2d>& sketch_m,
+                                            std::vector<Eigen::Vector2d>& world_m) const {
+  if (guiding_T_world_sketch_)
+    for (const Eigen::Vector2d& p : sketch_m) world_m.push_back(guiding_T_world_sketch_->apply(p));
+}
+
 std::vector<Eigen::Vector2d> ExplorationManager::guidingGuidepoints() const {
   std::vector<Eigen::Vector2d> out;
-  if (guiding_T_world_sketch_ && prior_)
-    for (const Eigen::Vector2d& g : prior_->positions_sketch_m)
-      out.push_back(guiding_T_world_sketch_->apply(g));
+  if (prior_) appendThroughGuide(prior_->positions_sketch_m, out);
   return out;
 }
 
 std::vector<Eigen::Vector2d> ExplorationManager::vouchingPlaces() const {
   std::vector<Eigen::Vector2d> out = guidingGuidepoints();
-  if (guiding_T_world_sketch_ && prior_)
-    for (const Eigen::Vector2d& s : prior_->predicted_free_sketch_m)
-      out.push_back(guiding_T_world_sketch_->apply(s));
+  if (prior_) appendThroughGuide(prior_->predicted_free_sketch_m, out);
   return out;
 }
 
-const HypothesisAttachment* ExplorationManager::activeAttachment() const {
-  if (!last_plan_ || last_plan_->active_hypothesis_id < 0) return nullptr;
+std::optional<size_t> ExplorationManager::activeUsedIndex() const {
+  if (!last_plan_ || last_plan_->active_hypothesis_id < 0) return std::nullopt;
   const PlanningResult& p = *last_plan_;
   for (size_t k = 0; k < p.used_hypotheses.size() && k < p.attachments.size(); ++k)
-    if (plan_hypotheses_[p.used_hypotheses[k]].id == p.active_hypothesis_id)
-      return &p.attachments[k];
-  return nullptr;
+    if (plan_hypotheses_[p.used_hypotheses[k]].id == p.active_hypothesis_id) return k;
+  return std::nullopt;
+}
+
+const HypothesisAttachment* ExplorationManager::activeAttachment() const {
+  const std::optional<size_t> k = activeUsedIndex();
+  return k ? &last_plan_->attachments[*k] : nullptr;
 }
 
 std::vector<Eigen::Vector2d> ExplorationManager::activeGuidepointSequence() const {

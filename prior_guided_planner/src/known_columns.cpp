@@ -36,7 +36,7 @@ void KnownColumns::update() {
 
 bool KnownColumns::seen(int x, int y) {
   if (occ_.revision() != seen_revision_) rebuild();  // scans went by without update()
-  return columns_.count(code(x, y)) > 0;
+  return columns_.count(cellKey2d(x, y)) > 0;
 }
 
 }  // namespace efs::planner

@@ -3,8 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
 #include <string>
-#include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include "observation_map_test_scenes.h"
@@ -19,21 +20,16 @@ Scene hall() { return testing::doorHall(); }
 std::vector<Eigen::Vector3d> route() { return testing::doorHallRoute(0.5); }
 
 /// The columns a pass over the whole map finds, as (x, y) cell keys.
-std::unordered_set<uint64_t> passOver(const OccupancyMap& occ) {
-  std::unordered_set<uint64_t> out;
-  occ.forEachKnownCell([&](const VoxelKey& k, double, OccupancyState) {
-    out.insert((static_cast<uint64_t>(static_cast<uint32_t>(k.x)) << 32) |
-               static_cast<uint32_t>(k.y));
-  });
+std::set<std::pair<int, int>> passOver(const OccupancyMap& occ) {
+  std::set<std::pair<int, int>> out;
+  occ.forEachKnownCell([&](const VoxelKey& k, double, OccupancyState) { out.insert({k.x, k.y}); });
   return out;
 }
 
 void expectSame(KnownColumns& known, const OccupancyMap& occ, const std::string& where) {
-  const std::unordered_set<uint64_t> pass = passOver(occ);
+  const std::set<std::pair<int, int>> pass = passOver(occ);
   EXPECT_EQ(known.size(), pass.size()) << where;
-  for (uint64_t c : pass)
-    ASSERT_TRUE(known.seen(static_cast<int32_t>(c >> 32), static_cast<int32_t>(c & 0xffffffffu)))
-        << where;
+  for (const auto& [x, y] : pass) ASSERT_TRUE(known.seen(x, y)) << where;
 }
 
 TEST(KnownColumns, KeepsWhatAPassOverTheWholeMapFindsScanByScan) {

@@ -279,6 +279,11 @@ class ExplorationManager {
 
  private:
   void refreshMapProducts();
+  /// The active hypothesis' place in the last plan's used_hypotheses and attachments.
+  std::optional<size_t> activeUsedIndex() const;
+  /// Appends the sketch-frame points mapped through guiding_T_world_sketch_ (none without one).
+  void appendThroughGuide(const std::vector<Eigen::Vector2d>& sketch_m,
+                          std::vector<Eigen::Vector2d>& world_m) const;
   /// Why a plan is due now; std::nullopt while the current target stands.
   std::optional<ReplanReason> replanDue(double time_s, const RobotPose& robot) const;
   void replan(double time_s, const RobotPose& robot);

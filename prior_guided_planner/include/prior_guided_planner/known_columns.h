@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <unordered_set>
 
+#include "efs_common/voxel_key.h"
 #include "prior_guided_planner/occupancy_map.h"
 
 namespace efs::planner {
@@ -36,13 +37,10 @@ class KnownColumns {
 
  private:
   void rebuild();
-  void add(const VoxelKey& cell) { columns_.insert(code(cell.x, cell.y)); }
-  static uint64_t code(int x, int y) {
-    return (static_cast<uint64_t>(static_cast<uint32_t>(x)) << 32) | static_cast<uint32_t>(y);
-  }
+  void add(const VoxelKey& cell) { columns_.insert(cellKey2d(cell.x, cell.y)); }
 
   const OccupancyMap& occ_;
-  std::unordered_set<uint64_t> columns_;
+  std::unordered_set<long long> columns_;  ///< cellKey2d of the known columns
   uint64_t seen_revision_ = 0;
   int rebuilds_ = 0;
 };
